@@ -1,0 +1,52 @@
+// mps_lab: command-line front end of the testbed.
+//   mps_lab run --method=mps scenes/dambreak.json [--out DIR] [--set key=value]... [--end-time T]
+//   mps_lab methods [--parameters]
+#include <cstdio>
+#include <exception>
+
+#include <CLI/CLI.hpp>
+
+#include "app/commands.hpp"
+#include "core/error.hpp"
+
+int main(int argc, char** argv) {
+  CLI::App app{"mps_lab: a testbed comparing incompressible particle methods (MPS, ISPH, DFSPH) on the same scenes"};
+  app.require_subcommand(1);
+  app.set_version_flag("--version", "mps_lab 0.1.0");
+
+  mps_lab::app::RunCommand run;
+  auto* run_app = app.add_subcommand("run", "run one method on a scene; frames, series.csv and run.json in the output folder");
+  run_app->add_option("scene", run.scene, "scene file (JSON), e.g. scenes/dambreak.json")->required();
+  run_app->add_option("--method,-m", run.method, "method name (default: the scene's \"method\"); see `mps_lab methods`");
+  run_app->add_option("--out,-o", run.out, "output folder (default: the scene's output.directory)");
+  run_app->add_option("--set,-s", run.set, "override a scene key, e.g. --set time.time_step=1e-4 (repeatable)")
+      ->take_last()
+      ->multi_option_policy(CLI::MultiOptionPolicy::TakeAll);
+  run_app->add_option("--end-time", run.end_time, "simulated end time in s (overrides time.end_time)");
+  run_app->add_flag("--quiet,-q", run.quiet, "no progress line and no summary line");
+
+  bool with_parameters = false;
+  auto* methods_app = app.add_subcommand("methods", "list the registered methods, one line each");
+  methods_app->add_flag("--parameters,-p", with_parameters, "also list every parameter, default and wall treatment");
+
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& error) {
+    return app.exit(error);
+  }
+
+  try {
+    if (app.got_subcommand(run_app)) return mps_lab::app::run_command(run);
+    if (app.got_subcommand(methods_app)) return mps_lab::app::methods_command(with_parameters);
+  } catch (const mps_lab::InputError& error) {
+    std::fprintf(stderr, "mps_lab: error: %s\n", error.what());
+    return 2;
+  } catch (const mps_lab::OutputError& error) {
+    std::fprintf(stderr, "mps_lab: error: %s\n", error.what());
+    return 3;
+  } catch (const std::exception& error) {
+    std::fprintf(stderr, "mps_lab: internal error: %s\n", error.what());
+    return 4;
+  }
+  return 0;
+}

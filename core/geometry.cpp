@@ -1,0 +1,127 @@
+#include "core/geometry.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <set>
+#include <string>
+#include <utility>
+
+#include "core/error.hpp"
+
+namespace mps_lab {
+
+namespace {
+
+long long whole_spacings(double length, double l0, const Scene& scene, const std::string& what) {
+  const double count = length / l0;
+  const double rounded = std::round(count);
+  if (std::fabs(count - rounded) > 1e-6 * std::max(1.0, count)) {
+    throw_input_error(scene.source, "particle_spacing",
+                      "got " + std::to_string(l0) + " m, but the domain " + what + " (" + std::to_string(length) +
+                          " m) is not a whole number of spacings; walls must close on the lattice");
+  }
+  return static_cast<long long>(rounded);
+}
+
+}  // namespace
+
+ParticleSet build_particles(const Scene& scene) {
+  const double l0 = scene.particle_spacing;
+  const Vec2 origin = scene.domain.min;
+  const long long nx = whole_spacings(scene.domain.max.x() - origin.x(), l0, scene, "width");
+  const long long ny = whole_spacings(scene.domain.max.y() - origin.y(), l0, scene, "height");
+  const TankWalls& walls = scene.walls;
+  const long long layers = walls.layers;
+  const auto lattice = [&](long long i, long long j) {
+    return Vec2(origin.x() + static_cast<double>(i) * l0, origin.y() + static_cast<double>(j) * l0);
+  };
+
+  ParticleSet particles;
+
+  // Fluid first: lattice points strictly inside any block (blocks may overlap).
+  std::set<std::pair<long long, long long>> fluid_points;
+  const double eps = 1e-9 * l0;
+  for (std::size_t k = 0; k < scene.fluid_blocks.size(); ++k) {
+    const auto& block = scene.fluid_blocks[k];
+    const auto i_first = static_cast<long long>(std::floor((block.region.min.x() - origin.x()) / l0)) - 1;
+    const auto i_last = static_cast<long long>(std::ceil((block.region.max.x() - origin.x()) / l0)) + 1;
+    const auto j_first = static_cast<long long>(std::floor((block.region.min.y() - origin.y()) / l0)) - 1;
+    const auto j_last = static_cast<long long>(std::ceil((block.region.max.y() - origin.y()) / l0)) + 1;
+    std::size_t inside = 0;
+    for (long long j = j_first; j <= j_last; ++j) {
+      for (long long i = i_first; i <= i_last; ++i) {
+        const Vec2 x = lattice(i, j);
+        if (x.x() > block.region.min.x() + eps && x.x() < block.region.max.x() - eps &&
+            x.y() > block.region.min.y() + eps && x.y() < block.region.max.y() - eps) {
+          ++inside;
+          if (fluid_points.insert({j, i}).second) {
+            particles.add(x, block.velocity, ParticleType::Fluid);
+          }
+        }
+      }
+    }
+    if (inside == 0) {
+      throw_input_error(scene.source, "fluid_blocks[" + std::to_string(k) + "]",
+                        "holds no lattice point strictly inside at particle_spacing " + std::to_string(l0) + " m");
+    }
+  }
+
+  // Walls. Layer = 1 + how many spacings the point lies outside the fluid region along
+  // the walled directions (Chebyshev distance), so corner blocks belong to outer layers.
+  const auto layer_of = [&](long long i, long long j) {
+    long long outside = 0;
+    if (walls.left) outside = std::max(outside, -i);
+    if (walls.right) outside = std::max(outside, i - nx);
+    if (walls.bottom) outside = std::max(outside, -j);
+    if (walls.top) outside = std::max(outside, j - ny);
+    return static_cast<std::uint8_t>(1 + outside);
+  };
+  const long long i_min = walls.left ? -(layers - 1) : 0;
+  const long long i_max = walls.right ? nx + layers - 1 : nx;
+  const auto add_wall = [&](long long i, long long j) {
+    if (fluid_points.count({j, i}) != 0) return;  // a block reaching the wall keeps its fluid
+    particles.add(lattice(i, j), Vec2::Zero(), ParticleType::Wall, layer_of(i, j));
+  };
+  if (walls.bottom) {
+    for (long long k = 0; k < layers; ++k) {
+      for (long long i = i_min; i <= i_max; ++i) add_wall(i, -k);
+    }
+  }
+  const long long j_first = walls.bottom ? 1 : 0;
+  const long long j_last = ny - 1;
+  for (long long j = j_first; j <= j_last; ++j) {
+    for (long long k = 0; k < layers; ++k) {
+      if (walls.left) add_wall(-k, j);
+      if (walls.right) add_wall(nx + k, j);
+    }
+  }
+  if (walls.top) {
+    for (long long k = 0; k < layers; ++k) {
+      for (long long i = i_min; i <= i_max; ++i) add_wall(i, ny + k);
+    }
+  }
+  return particles;
+}
+
+double escape_margin(const Scene& scene) { return scene.particle_spacing * (scene.walls.layers + 1); }
+
+std::size_t mark_escaped_as_ghosts(ParticleSet& particles, const Scene& scene) {
+  const double margin = escape_margin(scene);
+  const Vec2 low = scene.domain.min - Vec2(margin, margin);
+  const Vec2 high = scene.domain.max + Vec2(margin, margin);
+  std::size_t escaped = 0;
+  for (std::size_t i = 0; i < particles.size(); ++i) {
+    if (particles.type[i] != ParticleType::Fluid) continue;
+    const Vec2& x = particles.position[i];
+    const bool finite = std::isfinite(x.x()) && std::isfinite(x.y());
+    if (!finite || x.x() < low.x() || x.y() < low.y() || x.x() > high.x() || x.y() > high.y()) {
+      particles.type[i] = ParticleType::Ghost;
+      particles.velocity[i] = Vec2::Zero();
+      particles.pressure[i] = 0.0;
+      ++escaped;
+    }
+  }
+  return escaped;
+}
+
+}  // namespace mps_lab

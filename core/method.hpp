@@ -1,0 +1,86 @@
+#pragma once
+// Methods are plugins. A method registers a MethodInfo: its name, a one-line
+// description, the parameters it reads (its block in the scene, "methods.<name>"), the
+// per-particle fields it needs, the solver statistics it reports, the wall treatments it
+// uses by default, and a factory. The driver runs whatever the scene and --method name;
+// the method touches the core only through ParticleSet, the neighbour search, the kernels,
+// the wall-treatment hooks and the helpers declared in core/.
+//
+// Adding a method: add a folder methods/<name>/ whose sources define
+//   void mps_lab_register_method_<name>(mps_lab::MethodRegistry&);
+#include <functional>
+#include <map>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "core/parameters.hpp"
+#include "core/particles.hpp"
+#include "core/wall_treatment.hpp"
+
+namespace mps_lab {
+
+struct Scene;
+
+// A per-particle scalar the method needs; written to the VTK frames when `written`.
+struct FieldSpec {
+  std::string name;
+  std::string unit;
+  std::string description;
+  bool written = true;
+};
+
+// What one step reports. `solver_iterations`/`solver_residual` fill the common series
+// columns (the main pressure solve); `extra` holds one value per declared series column.
+struct StepReport {
+  long long solver_iterations = 0;
+  double solver_residual = 0.0;
+  std::vector<double> extra;
+};
+
+class Method {
+ public:
+  virtual ~Method() = default;
+  // Called once with the initial particles (fields already allocated).
+  virtual void initialise(ParticleSet& particles) = 0;
+  // The time step for the next step, s. May depend on the state (CFL-adaptive methods).
+  virtual double time_step(const ParticleSet& particles) const = 0;
+  // Advances the particles by dt.
+  virtual StepReport step(ParticleSet& particles, double dt) = 0;
+  // Method-specific constants and totals for run.json (e.g. n0, lambda, mean iterations).
+  virtual nlohmann::json summary() const { return nlohmann::json::object(); }
+};
+
+struct MethodSetup {
+  const Scene& scene;
+  const ParameterValues& parameters;
+  std::vector<WallTreatmentChoice> wall_treatments;
+};
+
+struct MethodInfo {
+  std::string name;
+  std::string description;                         // one line, for `mps_lab methods`
+  std::vector<ParameterSpec> parameters;
+  std::vector<FieldSpec> fields;
+  std::vector<std::string> series_columns;         // method-specific statistics in series.csv
+  std::vector<std::string> default_wall_treatments;  // enabled unless the scene says otherwise
+  std::function<std::unique_ptr<Method>(const MethodSetup&)> create;
+};
+
+class MethodRegistry {
+ public:
+  void add(MethodInfo info);  // throws std::logic_error on a duplicate name
+  const MethodInfo* find(const std::string& name) const;
+  std::vector<const MethodInfo*> all() const;  // by name
+  std::vector<std::string> names() const;
+
+ private:
+  std::map<std::string, MethodInfo> entries_;
+};
+
+// Every method compiled into this build (generated from methods/*/).
+MethodRegistry builtin_methods();
+
+}  // namespace mps_lab

@@ -1,0 +1,90 @@
+#include <algorithm>
+#include <stdexcept>
+
+#include "core/method.hpp"
+#include "core/scene.hpp"
+#include "core/wall_treatment.hpp"
+
+namespace mps_lab {
+
+void MethodRegistry::add(MethodInfo info) {
+  if (info.name.empty() || !info.create) throw std::logic_error("a method needs a name and a factory");
+  const std::string name = info.name;
+  if (!entries_.emplace(name, std::move(info)).second) {
+    throw std::logic_error("method '" + name + "' registered twice");
+  }
+}
+
+const MethodInfo* MethodRegistry::find(const std::string& name) const {
+  auto found = entries_.find(name);
+  return found == entries_.end() ? nullptr : &found->second;
+}
+
+std::vector<const MethodInfo*> MethodRegistry::all() const {
+  std::vector<const MethodInfo*> out;
+  for (const auto& [name, info] : entries_) out.push_back(&info);
+  return out;
+}
+
+std::vector<std::string> MethodRegistry::names() const {
+  std::vector<std::string> out;
+  for (const auto& [name, info] : entries_) out.push_back(name);
+  return out;
+}
+
+void WallTreatmentRegistry::add(WallTreatmentInfo info) {
+  if (info.name.empty() || !info.create) throw std::logic_error("a wall treatment needs a name and a factory");
+  const std::string name = info.name;
+  for (const auto& spec : info.parameters) {
+    if (spec.name == "enabled") throw std::logic_error("wall treatment '" + name + "': 'enabled' is reserved");
+  }
+  if (!entries_.emplace(name, std::move(info)).second) {
+    throw std::logic_error("wall treatment '" + name + "' registered twice");
+  }
+}
+
+const WallTreatmentInfo* WallTreatmentRegistry::find(const std::string& name) const {
+  auto found = entries_.find(name);
+  return found == entries_.end() ? nullptr : &found->second;
+}
+
+std::vector<const WallTreatmentInfo*> WallTreatmentRegistry::all() const {
+  std::vector<const WallTreatmentInfo*> out;
+  for (const auto& [name, info] : entries_) out.push_back(&info);
+  return out;
+}
+
+WallTreatmentSet::WallTreatmentSet(const std::vector<WallTreatmentChoice>& choices, const Scene& scene) {
+  std::vector<const WallTreatmentChoice*> enabled;
+  for (const auto& choice : choices) {
+    if (choice.enabled) enabled.push_back(&choice);
+  }
+  std::stable_sort(enabled.begin(), enabled.end(), [](const auto* a, const auto* b) {
+    return a->info->order < b->info->order;
+  });
+  for (const auto* choice : enabled) {
+    members_.emplace_back(choice->info->name, choice->info->create({scene, choice->parameters}));
+    check_all_read(choice->parameters, "wall treatment '" + choice->info->name + "'");
+  }
+}
+
+void WallTreatmentSet::after_explicit_velocity(WallContext& context) {
+  for (auto& member : members_) member.second->after_explicit_velocity(context);
+}
+void WallTreatmentSet::after_explicit_position(WallContext& context) {
+  for (auto& member : members_) member.second->after_explicit_position(context);
+}
+void WallTreatmentSet::after_neighbour_search(WallContext& context) {
+  for (auto& member : members_) member.second->after_neighbour_search(context);
+}
+void WallTreatmentSet::after_correction(WallContext& context) {
+  for (auto& member : members_) member.second->after_correction(context);
+}
+
+std::vector<std::string> WallTreatmentSet::names() const {
+  std::vector<std::string> out;
+  for (const auto& member : members_) out.push_back(member.first);
+  return out;
+}
+
+}  // namespace mps_lab

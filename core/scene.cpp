@@ -1,0 +1,332 @@
+#include "core/scene.hpp"
+
+#include <cmath>
+#include <fstream>
+#include <sstream>
+
+#include "core/error.hpp"
+#include "core/method.hpp"
+
+namespace mps_lab {
+
+namespace {
+
+// Nominal limits beyond which a scene is "far outside what was tested" (spec §3 note:
+// the original C code had 10000 particles and 256 neighbours as fixed arrays).
+constexpr double kLargestLatticePoints = 5.0e7;
+
+std::vector<ParameterSpec> top_level_keys() {
+  return {
+      string_parameter("description", "", "free text describing the scene and its source"),
+      number_parameter("particle_spacing", 0.025, "m", "initial particle spacing l0 (spec §3)").above(0.0),
+      string_parameter("method", "mps", "method used when the command line does not name one"),
+  };
+}
+
+std::vector<ParameterSpec> domain_keys() {
+  return {
+      vector2_parameter("min", Vec2::Zero(), "m", "lower-left corner; first wall layers lie on the box").mandatory(),
+      vector2_parameter("max", Vec2::Zero(), "m", "upper-right corner").mandatory(),
+  };
+}
+
+std::vector<ParameterSpec> wall_keys() {
+  return {
+      string_list_parameter("sides", {"bottom", "left", "right"}, "sides of the domain box that are walls")
+          .one_of({"bottom", "left", "right", "top"}),
+      integer_parameter("layers", 3, "wall particle layers per wall (spec §3)").at_least(1).at_most(10),
+  };
+}
+
+std::vector<ParameterSpec> fluid_block_keys() {
+  return {
+      vector2_parameter("min", Vec2::Zero(), "m", "lower-left corner of the water region").mandatory(),
+      vector2_parameter("max", Vec2::Zero(), "m", "upper-right corner of the water region").mandatory(),
+      vector2_parameter("velocity", Vec2::Zero(), "m/s", "initial velocity of the block"),
+  };
+}
+
+std::vector<ParameterSpec> physics_keys() {
+  return {
+      number_parameter("density", 1000.0, "kg/m^3", "fluid density rho (spec §3)").above(0.0),
+      number_parameter("kinematic_viscosity", 1.0e-6, "m^2/s", "kinematic viscosity nu (spec §3)").at_least(0.0),
+      vector2_parameter("gravity", Vec2(0.0, -9.81), "m/s^2", "gravitational acceleration (spec §3)"),
+  };
+}
+
+std::vector<ParameterSpec> time_keys() {
+  return {
+      number_parameter("time_step", 5.0e-4, "s", "time step dt (spec §3); initial and largest step of adaptive methods")
+          .above(0.0),
+      number_parameter("end_time", 2.0, "s", "simulated time T_end (spec §3)").at_least(0.0),
+  };
+}
+
+std::vector<ParameterSpec> output_keys() {
+  return {
+      string_parameter("directory", "output", "output folder, relative to the working directory"),
+      integer_parameter("frame_every_steps", 100, "write a CSV/VTK frame every N steps (spec §3)").at_least(1),
+      integer_parameter("series_every_steps", 10, "write a row of series.csv every N steps").at_least(1),
+      string_list_parameter("formats", {"csv", "vtk"}, "frame formats").one_of({"csv", "vtk"}),
+  };
+}
+
+std::vector<ParameterSpec> diagnostics_keys() {
+  return {
+      number_parameter("front_link_distance", 1.5, "l0",
+                       "fluid particles closer than this are one body of water (front and height ignore "
+                       "detached drops)")
+          .above(0.0),
+      number_parameter("height_probe_width", 1.5, "l0",
+                       "water height is measured on particles within this distance of the back-wall surface")
+          .above(0.0),
+  };
+}
+
+std::string join(const std::vector<std::string>& items) {
+  std::string text;
+  for (const auto& item : items) text += (text.empty() ? "" : ", ") + item;
+  return text;
+}
+
+const nlohmann::json& block_or_null(const nlohmann::json& document, const std::string& key) {
+  static const nlohmann::json null_value;  // immutable
+  return document.contains(key) ? document.at(key) : null_value;
+}
+
+std::vector<WallTreatmentChoice> resolve_wall_treatments(const MethodInfo& method, const nlohmann::json& block,
+                                                         const WallTreatmentRegistry& registry,
+                                                         const std::string& source, const std::string& path) {
+  if (!block.is_null() && !block.is_object()) {
+    throw_input_error(source, path, "got " + json_type_name(block) + ", expected an object of wall treatments");
+  }
+  std::vector<WallTreatmentChoice> choices;
+  // Treatments the scene names.
+  if (block.is_object()) {
+    for (const auto& [name, settings] : block.items()) {
+      const WallTreatmentInfo* info = registry.find(name);
+      if (info == nullptr) {
+        std::vector<std::string> known;
+        for (const auto* entry : registry.all()) known.push_back(entry->name);
+        throw_input_error(source, path + "." + name, "unknown wall treatment (expected one of: " + join(known) + ")");
+      }
+    }
+  }
+  for (const auto* info : registry.all()) {
+    const bool named = block.is_object() && block.contains(info->name);
+    bool default_on = false;
+    for (const auto& name : method.default_wall_treatments) default_on = default_on || name == info->name;
+    auto specs = info->parameters;
+    specs.push_back(boolean_parameter("enabled", named || default_on, "switch the treatment on or off"));
+    const std::string key = path + "." + info->name;
+    WallTreatmentChoice choice;
+    choice.info = info;
+    choice.parameters = resolve_parameters(specs, named ? block.at(info->name) : nlohmann::json(), source, key);
+    choice.enabled = choice.parameters.boolean("enabled");
+    if (choice.enabled) {
+      bool supported = false;
+      for (const auto& name : info->methods) supported = supported || name == method.name;
+      if (!supported) {
+        throw_input_error(source, key, "wall treatment '" + info->name + "' does not support method '" +
+                                           method.name + "' (it supports: " + join(info->methods) + ")");
+      }
+    }
+    if (named || default_on) choices.push_back(std::move(choice));
+  }
+  return choices;
+}
+
+}  // namespace
+
+std::vector<SceneBlockSpec> shared_scene_keys() {
+  return {{"", top_level_keys()},     {"domain", domain_keys()},   {"walls", wall_keys()},
+          {"fluid_blocks[]", fluid_block_keys()}, {"physics", physics_keys()}, {"time", time_keys()},
+          {"output", output_keys()},  {"diagnostics", diagnostics_keys()}};
+}
+
+const MethodConfig& Scene::method_config(const std::string& name) const {
+  auto found = methods.find(name);
+  if (found == methods.end()) throw_input_error(source, "method", "unknown method '" + name + "'");
+  return found->second;
+}
+
+void apply_override(nlohmann::json& document, const std::string& assignment, const std::string& source) {
+  const auto equals = assignment.find('=');
+  if (equals == std::string::npos || equals == 0) {
+    throw_input_error("--set", assignment, "expected key=value, e.g. time.end_time=0.5");
+  }
+  const std::string key = assignment.substr(0, equals);
+  const std::string text = assignment.substr(equals + 1);
+  nlohmann::json value = nlohmann::json::parse(text, nullptr, false);
+  if (value.is_discarded()) value = text;  // a bare word is a string
+
+  nlohmann::json* node = &document;
+  std::stringstream parts(key);
+  std::string part;
+  std::vector<std::string> path;
+  while (std::getline(parts, part, '.')) path.push_back(part);
+  for (std::size_t k = 0; k < path.size(); ++k) {
+    const std::string& name = path[k];
+    if (name.empty()) throw_input_error("--set", key, "empty component in the key");
+    const bool last = k + 1 == path.size();
+    if (node->is_array()) {
+      char* end = nullptr;
+      const long index = std::strtol(name.c_str(), &end, 10);
+      if (*end != '\0' || index < 0 || static_cast<std::size_t>(index) >= node->size()) {
+        throw_input_error(source, key, "'" + name + "' is not an index of an array of " +
+                                           std::to_string(node->size()));
+      }
+      node = &(*node)[static_cast<std::size_t>(index)];
+    } else {
+      if (node->is_null()) *node = nlohmann::json::object();
+      if (!node->is_object()) throw_input_error(source, key, "'" + name + "' is inside a value that is not an object");
+      node = &(*node)[name];
+    }
+    if (last) *node = value;
+  }
+}
+
+Scene load_scene(const std::string& path, const std::vector<std::string>& overrides,
+                 const MethodRegistry& methods, const WallTreatmentRegistry& walls) {
+  std::ifstream file(path);
+  if (!file) throw_input_error(path, "", "cannot open the scene file");
+  std::stringstream text;
+  text << file.rdbuf();
+  nlohmann::json document;
+  try {
+    document = nlohmann::json::parse(text.str());
+  } catch (const nlohmann::json::parse_error& error) {
+    // nlohmann's message is "[json.exception.parse_error.101] parse error at line 3, column 5: ..."
+    std::string message = error.what();
+    const auto colon = message.find("parse error");
+    throw_input_error(path, "", "not valid JSON: " + (colon == std::string::npos ? message : message.substr(colon)));
+  }
+  if (!document.is_object()) throw_input_error(path, "", "expected a JSON object at the top level");
+  for (const auto& assignment : overrides) apply_override(document, assignment, path);
+  return parse_scene(std::move(document), path, methods, walls);
+}
+
+Scene parse_scene(nlohmann::json document, const std::string& source, const MethodRegistry& methods,
+                  const WallTreatmentRegistry& walls) {
+  if (!document.is_object()) throw_input_error(source, "", "expected a JSON object at the top level");
+  Scene scene;
+  scene.source = source;
+  const std::set<std::string> blocks = {"domain", "walls", "fluid_blocks", "physics", "time",
+                                        "output", "diagnostics", "methods"};
+  const auto top = resolve_parameters(top_level_keys(), document, source, "", blocks);
+  scene.description = top.string("description");
+  scene.particle_spacing = top.number("particle_spacing");
+  scene.method = top.string("method");
+
+  if (!document.contains("domain")) throw_input_error(source, "domain", "missing; expected an object with min and max");
+  const auto domain = resolve_parameters(domain_keys(), document.at("domain"), source, "domain");
+  scene.domain.min = domain.vector2("min");
+  scene.domain.max = domain.vector2("max");
+
+  const auto wall_block = resolve_parameters(wall_keys(), block_or_null(document, "walls"), source, "walls");
+  scene.walls.layers = static_cast<int>(wall_block.integer("layers"));
+  scene.walls.bottom = scene.walls.left = scene.walls.right = scene.walls.top = false;
+  for (const auto& side : wall_block.string_list("sides")) {
+    if (side == "bottom") scene.walls.bottom = true;
+    if (side == "left") scene.walls.left = true;
+    if (side == "right") scene.walls.right = true;
+    if (side == "top") scene.walls.top = true;
+  }
+
+  if (!document.contains("fluid_blocks")) {
+    throw_input_error(source, "fluid_blocks", "missing; expected an array of {min, max} blocks");
+  }
+  const auto& fluid = document.at("fluid_blocks");
+  if (!fluid.is_array() || fluid.empty()) {
+    throw_input_error(source, "fluid_blocks", "got " + fluid.dump() + ", expected a non-empty array of blocks");
+  }
+  for (std::size_t k = 0; k < fluid.size(); ++k) {
+    const std::string path = "fluid_blocks[" + std::to_string(k) + "]";
+    const auto block = resolve_parameters(fluid_block_keys(), fluid[k], source, path);
+    scene.fluid_blocks.push_back({{block.vector2("min"), block.vector2("max")}, block.vector2("velocity")});
+  }
+
+  const auto physics = resolve_parameters(physics_keys(), block_or_null(document, "physics"), source, "physics");
+  scene.physics = {physics.number("density"), physics.number("kinematic_viscosity"), physics.vector2("gravity")};
+
+  const auto time = resolve_parameters(time_keys(), block_or_null(document, "time"), source, "time");
+  scene.time = {time.number("time_step"), time.number("end_time")};
+
+  const auto output = resolve_parameters(output_keys(), block_or_null(document, "output"), source, "output");
+  scene.output.directory = output.string("directory");
+  scene.output.frame_every_steps = output.integer("frame_every_steps");
+  scene.output.series_every_steps = output.integer("series_every_steps");
+  scene.output.csv = scene.output.vtk = false;
+  for (const auto& format : output.string_list("formats")) {
+    if (format == "csv") scene.output.csv = true;
+    if (format == "vtk") scene.output.vtk = true;
+  }
+
+  const auto diagnostics =
+      resolve_parameters(diagnostics_keys(), block_or_null(document, "diagnostics"), source, "diagnostics");
+  scene.diagnostics = {diagnostics.number("front_link_distance"), diagnostics.number("height_probe_width")};
+
+  // Geometry that makes sense.
+  const double l0 = scene.particle_spacing;
+  const Vec2 extent = scene.domain.max - scene.domain.min;
+  if (!(extent.x() > 0.0 && extent.y() > 0.0)) {
+    throw_input_error(source, "domain", "max " + domain.to_json()["max"].dump() + " must exceed min " +
+                                            domain.to_json()["min"].dump() + " in x and y");
+  }
+  if (extent.x() / l0 * extent.y() / l0 > kLargestLatticePoints) {
+    throw_input_error(source, "particle_spacing", "got " + std::to_string(l0) + " m: the domain would hold more than " +
+                                                      "5e7 lattice points; expected a spacing for at most that");
+  }
+  if (extent.x() < 4.0 * l0 || extent.y() < 4.0 * l0) {
+    throw_input_error(source, "particle_spacing", "got " + std::to_string(l0) +
+                                                      " m, expected at most a quarter of the domain's width and height");
+  }
+  for (std::size_t k = 0; k < scene.fluid_blocks.size(); ++k) {
+    const Box& box = scene.fluid_blocks[k].region;
+    const std::string path = "fluid_blocks[" + std::to_string(k) + "]";
+    if (!(box.max.x() > box.min.x() && box.max.y() > box.min.y())) {
+      throw_input_error(source, path, "max must exceed min in x and y");
+    }
+    const double tolerance = 1e-9 * l0;
+    if (box.min.x() < scene.domain.min.x() - tolerance || box.min.y() < scene.domain.min.y() - tolerance ||
+        box.max.x() > scene.domain.max.x() + tolerance || box.max.y() > scene.domain.max.y() + tolerance) {
+      throw_input_error(source, path, "the block must lie inside the domain");
+    }
+  }
+  if (scene.time.time_step > scene.time.end_time && scene.time.end_time > 0.0) {
+    throw_input_error(source, "time.time_step", "got " + std::to_string(scene.time.time_step) +
+                                                    " s, expected at most time.end_time");
+  }
+
+  // Method blocks: every block must belong to a registered method and is validated even
+  // when another method runs, so a typo never waits for the day that block is used.
+  const auto& method_blocks = block_or_null(document, "methods");
+  if (!method_blocks.is_null() && !method_blocks.is_object()) {
+    throw_input_error(source, "methods", "got " + json_type_name(method_blocks) + ", expected an object");
+  }
+  if (method_blocks.is_object()) {
+    for (const auto& [name, block] : method_blocks.items()) {
+      if (methods.find(name) == nullptr) {
+        throw_input_error(source, "methods." + name, "unknown method (registered: " + join(methods.names()) + ")");
+      }
+    }
+  }
+  for (const auto* info : methods.all()) {
+    const std::string path = "methods." + info->name;
+    const nlohmann::json& block =
+        method_blocks.is_object() && method_blocks.contains(info->name) ? method_blocks.at(info->name) : nlohmann::json();
+    MethodConfig config;
+    config.parameters = resolve_parameters(info->parameters, block, source, path, {"wall_treatments"});
+    const nlohmann::json& treatments =
+        block.is_object() && block.contains("wall_treatments") ? block.at("wall_treatments") : nlohmann::json();
+    config.wall_treatments = resolve_wall_treatments(*info, treatments, walls, source, path + ".wall_treatments");
+    scene.methods.emplace(info->name, std::move(config));
+  }
+  if (methods.find(scene.method) == nullptr) {
+    throw_input_error(source, "method", "unknown method '" + scene.method + "' (registered: " + join(methods.names()) + ")");
+  }
+  scene.document = std::move(document);
+  return scene;
+}
+
+}  // namespace mps_lab

@@ -1,0 +1,70 @@
+// Wall position clamp (MPS spec §6.3): after the explicit position update and after the
+// pressure correction, a fluid particle past a wall surface (offset l0 inside the wall's
+// first layer; spec: 0.5 l0) is put back on it and its wall-normal velocity is reversed
+// and damped, v_n <- -e v_n (e = restitution, spec 0.2). Walls are the tank sides the scene
+// lists; an open side (the top in the dam break) is not clamped.
+#include "core/scene.hpp"
+#include "core/wall_treatment.hpp"
+
+namespace mps_lab {
+namespace {
+
+class WallPositionClamp final : public WallTreatment {
+ public:
+  explicit WallPositionClamp(const WallTreatmentSetup& setup)
+      : restitution_(setup.parameters.number("restitution")), walls_(setup.scene.walls) {
+    const double offset = setup.parameters.number("offset") * setup.scene.particle_spacing;
+    low_ = setup.scene.domain.min + Vec2(offset, offset);
+    high_ = setup.scene.domain.max - Vec2(offset, offset);
+  }
+
+  void after_explicit_position(WallContext& context) override { clamp(context.particles); }
+  void after_correction(WallContext& context) override { clamp(context.particles); }
+
+ private:
+  void clamp(ParticleSet& particles) const {
+    const auto n = static_cast<std::ptrdiff_t>(particles.size());
+#pragma omp parallel for schedule(static)
+    for (std::ptrdiff_t i = 0; i < n; ++i) {
+      if (particles.type[i] != ParticleType::Fluid) continue;
+      Vec2& x = particles.position[i];
+      Vec2& v = particles.velocity[i];
+      if (walls_.left && x.x() < low_.x()) {
+        x.x() = low_.x();
+        if (v.x() < 0.0) v.x() *= -restitution_;
+      }
+      if (walls_.right && x.x() > high_.x()) {
+        x.x() = high_.x();
+        if (v.x() > 0.0) v.x() *= -restitution_;
+      }
+      if (walls_.bottom && x.y() < low_.y()) {
+        x.y() = low_.y();
+        if (v.y() < 0.0) v.y() *= -restitution_;
+      }
+      if (walls_.top && x.y() > high_.y()) {
+        x.y() = high_.y();
+        if (v.y() > 0.0) v.y() *= -restitution_;
+      }
+    }
+  }
+
+  double restitution_;
+  TankWalls walls_;
+  Vec2 low_;   // m
+  Vec2 high_;  // m
+};
+
+}  // namespace
+}  // namespace mps_lab
+
+void mps_lab_register_wall_treatment_wall_position_clamp(mps_lab::WallTreatmentRegistry& registry) {
+  using namespace mps_lab;
+  registry.add({"wall_position_clamp",
+                "puts fluid particles past a wall surface back on it, normal velocity reversed and damped "
+                "(MPS spec 6.3)",
+                {"mps"},
+                {number_parameter("offset", 0.5, "l0", "wall surface distance from the first wall layer").at_least(0.0),
+                 number_parameter("restitution", 0.2, "", "WALL_RESTITUTION: v_n <- -e v_n").at_least(0.0).at_most(1.0)},
+                10,
+                [](const WallTreatmentSetup& setup) { return std::make_unique<WallPositionClamp>(setup); }});
+}

@@ -1,0 +1,226 @@
+// The reference method: semi-implicit MPS exactly as the specification (spec §5), on the
+// shared core. Step order (spec §5.1, §5.2):
+//   explicit:  a = g + nu <lap u>;  u* = u + dt a;  [CFL clamp];  r* = r + dt u*;
+//              walls fixed;  [position clamp]
+//   implicit:  neighbour search at r*;  [repulsion];  [collision];  n*;  free surface;
+//              PPE by CG;  P < 0 -> 0;  u = u* - dt grad P / rho;  r = r* + dt (dt a_p);
+//              walls fixed;  [position clamp];  escaped particles -> ghosts
+// Bracketed steps are wall treatments (core/walls/), on by default, each switchable.
+// Decisions where the spec is open are documented in docs/methods/mps.md.
+#include <algorithm>
+#include <cmath>
+#include <memory>
+
+#include "core/geometry.hpp"
+#include "core/method.hpp"
+#include "core/scene.hpp"
+#include "methods/mps/mps_operators.hpp"
+#include "methods/mps/mps_pressure.hpp"
+
+namespace mps_lab::mps {
+namespace {
+
+class MpsMethod final : public Method {
+ public:
+  explicit MpsMethod(const MethodSetup& setup)
+      : scene_(setup.scene), walls_(setup.wall_treatments, setup.scene) {
+    const auto& p = setup.parameters;
+    const double l0 = scene_.particle_spacing;
+    const double r_min = p.number("r_min") * l0;
+    density_radius_ = make_operator_radius(l0, p.number("re_number_density") * l0, r_min);
+    gradient_radius_ = make_operator_radius(l0, p.number("re_gradient") * l0, r_min);
+    laplacian_radius_ = make_operator_radius(l0, p.number("re_laplacian") * l0, r_min);
+    search_radius_ = std::max({density_radius_.re, gradient_radius_.re, laplacian_radius_.re});
+    pressure_wall_layers_ = static_cast<int>(p.integer("pressure_wall_layers"));
+    min_includes_self_ = p.boolean("min_pressure_includes_self");
+    settings_.density = scene_.physics.density;
+    settings_.relaxation = p.number("relaxation");
+    settings_.free_surface_threshold = p.number("free_surface_threshold");
+    settings_.tolerance = p.number("cg_tolerance");
+    settings_.max_iterations = p.integer("cg_max_iterations");
+    settings_.warm_start = p.boolean("warm_start");
+    settings_.preconditioner = p.string("preconditioner");
+    settings_.clamp_negative = p.boolean("clamp_negative_pressure");
+    fail_on_nonconvergence_ = p.boolean("fail_on_nonconvergence");
+  }
+
+  void initialise(ParticleSet& particles) override {
+    const std::size_t n = particles.size();
+    carries_pressure_.assign(n, 0);
+    for (std::size_t i = 0; i < n; ++i) {
+      carries_pressure_[i] = particles.type[i] == ParticleType::Fluid ||
+                             (particles.type[i] == ParticleType::Wall && particles.wall_layer[i] <= pressure_wall_layers_);
+    }
+    acceleration_.assign(n, Vec2::Zero());
+    search(particles);
+    number_density(particles, neighbours_, density_radius_, particles.field("number_density"));
+  }
+
+  double time_step(const ParticleSet&) const override { return scene_.time.time_step; }
+
+  StepReport step(ParticleSet& particles, double dt) override {
+    const std::size_t n = particles.size();
+    const auto count = static_cast<std::ptrdiff_t>(n);
+    WallContext context{particles, &neighbours_, dt, scene_};
+
+    // --- 5.1 explicit step -------------------------------------------------------------
+    const Vec2 gravity = scene_.physics.gravity;
+    std::fill(acceleration_.begin(), acceleration_.end(), Vec2::Zero());
+#pragma omp parallel for schedule(static)
+    for (std::ptrdiff_t i = 0; i < count; ++i) {
+      if (particles.type[i] == ParticleType::Fluid) acceleration_[i] = gravity;  // 5.1-1
+    }
+    if (scene_.physics.kinematic_viscosity > 0.0) {  // 5.1-2 (costs nothing when nu = 0)
+      add_viscous_acceleration(particles, neighbours_, laplacian_radius_, scene_.physics.kinematic_viscosity,
+                               acceleration_);
+    }
+#pragma omp parallel for schedule(static)
+    for (std::ptrdiff_t i = 0; i < count; ++i) {
+      if (particles.type[i] == ParticleType::Fluid) particles.velocity[i] += dt * acceleration_[i];  // 5.1-3
+    }
+    walls_.after_explicit_velocity(context);  // 5.1-4 CFL clamp
+#pragma omp parallel for schedule(static)
+    for (std::ptrdiff_t i = 0; i < count; ++i) {
+      if (particles.type[i] == ParticleType::Fluid) particles.position[i] += dt * particles.velocity[i];  // 5.1-5
+    }
+    fix_walls(particles);                     // 5.1-6
+    walls_.after_explicit_position(context);  // 5.1-7 position clamp
+
+    // --- 5.2 implicit step -------------------------------------------------------------
+    search(particles);                        // 5.2-1
+    walls_.after_neighbour_search(context);   // 5.2-2 repulsion, 5.2-3 collision
+    auto& n_star = particles.field("number_density");
+    number_density(particles, neighbours_, density_radius_, n_star);  // 5.2-4
+    const PressureSolveResult solve =                                  // 5.2-5 .. 5.2-7
+        ppe_.solve(particles, neighbours_, n_star, carries_pressure_, laplacian_radius_, density_radius_.n0, dt,
+                   settings_, particles.field("free_surface"));
+    if (!solve.converged) {
+      ++nonconverged_solves_;
+      if (fail_on_nonconvergence_) {
+        throw std::runtime_error("MPS pressure solve did not reach cg_tolerance " + std::to_string(settings_.tolerance) +
+                                 " in " + std::to_string(solve.iterations) + " iterations (residual " +
+                                 std::to_string(solve.residual) + ")");
+      }
+    }
+    pressure_acceleration(particles, neighbours_, gradient_radius_, carries_pressure_, scene_.physics.density,
+                          min_includes_self_, acceleration_);
+#pragma omp parallel for schedule(static)
+    for (std::ptrdiff_t i = 0; i < count; ++i) {  // 5.2-8
+      if (particles.type[i] != ParticleType::Fluid) continue;
+      particles.velocity[i] += dt * acceleration_[i];
+      particles.position[i] += dt * (dt * acceleration_[i]);
+    }
+    fix_walls(particles);                // 5.2-9
+    walls_.after_correction(context);    // 5.2-10 position clamp
+    ghosts_ += mark_escaped_as_ghosts(particles, scene_);  // 5.2-11
+
+    total_iterations_ += solve.iterations;
+    ++steps_;
+    ungrounded_groups_ += solve.ungrounded_groups;
+
+    // Compressibility left for the solver: mean |n* - n0| / n0 over interior fluid.
+    double deviation = 0.0;
+    std::size_t interior = 0;
+    const auto& surface = particles.field("free_surface");
+    for (std::size_t i = 0; i < n; ++i) {
+      if (particles.type[i] != ParticleType::Fluid || surface[i] != 0.0) continue;
+      deviation += std::fabs(n_star[i] - density_radius_.n0) / density_radius_.n0;
+      ++interior;
+    }
+    StepReport report;
+    report.solver_iterations = solve.iterations;
+    report.solver_residual = solve.residual;
+    report.extra = {interior > 0 ? deviation / static_cast<double>(interior) : 0.0,
+                    static_cast<double>(solve.surface), static_cast<double>(solve.unknowns),
+                    static_cast<double>(solve.ungrounded_groups)};
+    return report;
+  }
+
+  nlohmann::json summary() const override {
+    const double l0 = scene_.particle_spacing;
+    const auto radius_json = [l0](const OperatorRadius& radius) {
+      return nlohmann::json{{"re_over_l0", radius.re / l0}, {"n0", radius.n0}, {"lambda_over_l0_squared", radius.lambda / (l0 * l0)}};
+    };
+    return {{"number_density_radius", radius_json(density_radius_)},
+            {"gradient_radius", radius_json(gradient_radius_)},
+            {"laplacian_radius", radius_json(laplacian_radius_)},
+            {"wall_treatments", walls_.names()},
+            {"ghosts_created", ghosts_},
+            {"ungrounded_groups_regularised", ungrounded_groups_},
+            {"nonconverged_solves", nonconverged_solves_}};
+  }
+
+ private:
+  void search(const ParticleSet& particles) {
+    cells_.build(particles.position, particles.type, search_radius_);
+    cells_.find_neighbours(particles.position, particles.type, search_radius_, neighbours_);
+  }
+
+  static void fix_walls(ParticleSet& particles) {  // spec §7: wall velocity (and acceleration) zero
+    for (std::size_t i = 0; i < particles.size(); ++i) {
+      if (particles.type[i] == ParticleType::Wall) particles.velocity[i] = Vec2::Zero();
+    }
+  }
+
+  const Scene& scene_;
+  WallTreatmentSet walls_;
+  OperatorRadius density_radius_, gradient_radius_, laplacian_radius_;
+  double search_radius_ = 0.0;
+  int pressure_wall_layers_ = 1;
+  bool min_includes_self_ = true;
+  bool fail_on_nonconvergence_ = false;
+  PressureSolveSettings settings_;
+  std::vector<char> carries_pressure_;
+  std::vector<Vec2> acceleration_;  // m/s^2
+  CellList cells_;
+  NeighbourList neighbours_;
+  PressurePoissonSolver ppe_;
+  long long total_iterations_ = 0;
+  long long steps_ = 0;
+  std::size_t ghosts_ = 0;
+  std::size_t ungrounded_groups_ = 0;
+  long long nonconverged_solves_ = 0;
+};
+
+}  // namespace
+}  // namespace mps_lab::mps
+
+void mps_lab_register_method_mps(mps_lab::MethodRegistry& registry) {
+  using namespace mps_lab;
+  MethodInfo info;
+  info.name = "mps";
+  info.description = "semi-implicit MPS of the specification (Koshizuka & Oka 1996): number-density PPE by CG";
+  info.parameters = {
+      number_parameter("re_number_density", 2.1, "l0", "radius of influence of the number density (spec §3)").above(1.0).at_most(4.0),
+      number_parameter("re_gradient", 2.1, "l0", "radius of influence of the pressure gradient (spec §3)").above(1.0).at_most(4.0),
+      number_parameter("re_laplacian", 2.1, "l0",
+                       "radius of influence of the Laplacian, viscosity and PPE (spec: 2.1; K&O 1996: 4.0)")
+          .above(1.0)
+          .at_most(4.0),
+      number_parameter("r_min", 0.01, "l0", "R_MIN: smaller distances are clamped in the weight (spec §2)").above(0.0).below(1.0),
+      number_parameter("free_surface_threshold", 0.97, "", "beta: n*/n0 < beta marks a free-surface particle (spec §3)")
+          .above(0.0)
+          .below(1.0),
+      number_parameter("relaxation", 0.2, "", "pressure relaxation coefficient on the PPE source (spec §3)").above(0.0).at_most(1.0),
+      integer_parameter("cg_max_iterations", 10000, "conjugate-gradient iteration cap (spec §3)").at_least(1),
+      number_parameter("cg_tolerance", 1.0e-8, "", "CG stops at ||b - A p|| / ||b|| below this (spec §3, read as relative)")
+          .above(0.0)
+          .below(1.0),
+      string_parameter("preconditioner", "jacobi", "CG preconditioner").one_of({"jacobi", "incomplete_cholesky"}),
+      boolean_parameter("warm_start", true, "start CG from the previous step's pressure"),
+      integer_parameter("pressure_wall_layers", 1,
+                        "wall layers (counted from the fluid) that carry pressure; outer layers only fill n")
+          .at_least(0)
+          .at_most(10),
+      boolean_parameter("min_pressure_includes_self", true, "P_min of the gradient includes particle i (K&O 1996)"),
+      boolean_parameter("clamp_negative_pressure", true, "set P < 0 to 0 after the solve (spec §5.2-7)"),
+      boolean_parameter("fail_on_nonconvergence", false,
+                        "stop the run when CG reaches cg_max_iterations above cg_tolerance (else count and go on)"),
+  };
+  info.fields = {{"number_density", "", "n* at the provisional positions (spec §5.2-4)", true},
+                 {"free_surface", "", "1 where n*/n0 < free_surface_threshold (P = 0)", true}};
+  info.series_columns = {"number_density_error", "free_surface_particles", "ppe_unknowns", "ungrounded_groups"};
+  info.default_wall_treatments = {"cfl_velocity_clamp", "wall_repulsion", "wall_position_clamp", "particle_collision"};
+  info.create = [](const MethodSetup& setup) { return std::make_unique<mps::MpsMethod>(setup); };
+  registry.add(std::move(info));
+}

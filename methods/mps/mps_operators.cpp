@@ -1,0 +1,83 @@
+#include "methods/mps/mps_operators.hpp"
+
+#include <algorithm>
+#include <cstddef>
+
+namespace mps_lab::mps {
+
+OperatorRadius make_operator_radius(double spacing, double re, double r_min) {
+  const MpsLatticeConstants lattice = mps_lattice_constants(spacing, re, r_min);
+  return {re, r_min, lattice.number_density, lattice.lambda};
+}
+
+void number_density(const ParticleSet& particles, const NeighbourList& neighbours, const OperatorRadius& radius,
+                    std::vector<double>& out) {
+  const auto n = static_cast<std::ptrdiff_t>(particles.size());
+  out.resize(particles.size());
+#pragma omp parallel for schedule(static)
+  for (std::ptrdiff_t i = 0; i < n; ++i) {
+    double sum = 0.0;
+    if (particles.type[i] != ParticleType::Ghost) {
+      for (std::uint32_t k = neighbours.begin(i); k < neighbours.end(i); ++k) {
+        const std::uint32_t j = neighbours.indices[k];
+        if (particles.type[j] == ParticleType::Ghost) continue;
+        sum += mps_weight((particles.position[j] - particles.position[i]).norm(), radius.re, radius.r_min);
+      }
+    }
+    out[i] = sum;
+  }
+}
+
+void add_viscous_acceleration(const ParticleSet& particles, const NeighbourList& neighbours,
+                              const OperatorRadius& radius, double kinematic_viscosity,
+                              std::vector<Vec2>& acceleration) {
+  const double coefficient = kinematic_viscosity * 2.0 * kDimension / (radius.n0 * radius.lambda);  // 1/s
+  const auto n = static_cast<std::ptrdiff_t>(particles.size());
+#pragma omp parallel for schedule(static)
+  for (std::ptrdiff_t i = 0; i < n; ++i) {
+    if (particles.type[i] != ParticleType::Fluid) continue;
+    Vec2 sum = Vec2::Zero();
+    for (std::uint32_t k = neighbours.begin(i); k < neighbours.end(i); ++k) {
+      const std::uint32_t j = neighbours.indices[k];
+      if (particles.type[j] == ParticleType::Ghost) continue;
+      const double w = mps_weight((particles.position[j] - particles.position[i]).norm(), radius.re, radius.r_min);
+      sum += (particles.velocity[j] - particles.velocity[i]) * w;
+    }
+    acceleration[i] += coefficient * sum;
+  }
+}
+
+void pressure_acceleration(const ParticleSet& particles, const NeighbourList& neighbours,
+                           const OperatorRadius& radius, const std::vector<char>& carries_pressure,
+                           double density, bool min_includes_self, std::vector<Vec2>& acceleration) {
+  const double coefficient = kDimension / radius.n0;
+  const double r_min2 = radius.r_min * radius.r_min;
+  const auto n = static_cast<std::ptrdiff_t>(particles.size());
+#pragma omp parallel for schedule(static)
+  for (std::ptrdiff_t i = 0; i < n; ++i) {
+    acceleration[i] = Vec2::Zero();
+    if (particles.type[i] != ParticleType::Fluid) continue;
+    const Vec2 xi = particles.position[i];
+    // P_min over the neighbours that enter the sum (and i itself, as in K&O 1996).
+    double p_min = min_includes_self ? particles.pressure[i] : std::numeric_limits<double>::infinity();
+    for (std::uint32_t k = neighbours.begin(i); k < neighbours.end(i); ++k) {
+      const std::uint32_t j = neighbours.indices[k];
+      if (!carries_pressure[j] || particles.type[j] == ParticleType::Ghost) continue;
+      if ((particles.position[j] - xi).norm() >= radius.re) continue;
+      p_min = std::min(p_min, particles.pressure[j]);
+    }
+    Vec2 gradient = Vec2::Zero();  // Pa/m
+    for (std::uint32_t k = neighbours.begin(i); k < neighbours.end(i); ++k) {
+      const std::uint32_t j = neighbours.indices[k];
+      if (!carries_pressure[j] || particles.type[j] == ParticleType::Ghost) continue;
+      const Vec2 r_ij = particles.position[j] - xi;
+      const double r = r_ij.norm();
+      const double w = mps_weight(r, radius.re, radius.r_min);
+      if (w == 0.0) continue;
+      gradient += (particles.pressure[j] - p_min) / std::max(r * r, r_min2) * w * r_ij;
+    }
+    acceleration[i] = -(coefficient / density) * gradient;
+  }
+}
+
+}  // namespace mps_lab::mps

@@ -1,0 +1,66 @@
+#pragma once
+// The pressure Poisson equation of MPS (spec §8; Koshizuka & Oka 1996, eq. 16):
+//   <lap P>_i = -(relaxation) (rho / dt^2) (n*_i - n0) / n0
+// discretised with the Laplacian model of spec §2,
+//   <lap P>_i = (2d / (n0_L lambda_L)) sum_j (P_j - P_i) w_L(r_ij),
+// over the particles that carry pressure (fluid and the wall layers the method lets carry
+// it). Free-surface particles (n*_i < threshold n0) have P = 0 (Dirichlet, spec §7); the
+// others are unknowns. Written as A p = b with A_ii = sum_j a_ij, A_ij = -a_ij, the matrix
+// is symmetric and, where every connected group of unknowns touches a Dirichlet particle,
+// positive definite: conjugate gradients apply.
+#include <string>
+#include <vector>
+
+#include <Eigen/Sparse>
+
+#include "core/neighbour_search.hpp"
+#include "core/particles.hpp"
+#include "methods/mps/mps_operators.hpp"
+
+namespace mps_lab::mps {
+
+struct PressureSolveSettings {
+  double density = 1000.0;               // kg/m^3
+  double relaxation = 0.2;               // spec §3
+  double free_surface_threshold = 0.97;  // beta: surface if n*/n0 < beta
+  double tolerance = 1.0e-8;             // relative residual ||b - A p|| / ||b||
+  long long max_iterations = 10000;
+  bool warm_start = true;                // start CG from the previous pressure
+  std::string preconditioner = "jacobi";  // or "incomplete_cholesky"
+  bool clamp_negative = true;            // spec §5.2-7
+};
+
+struct PressureSolveResult {
+  long long iterations = 0;
+  double residual = 0.0;             // relative, as reported by the solver
+  bool converged = true;
+  std::size_t unknowns = 0;
+  std::size_t surface = 0;           // pressure-carrying particles held at P = 0
+  std::size_t ungrounded_groups = 0;  // groups of unknowns without a Dirichlet neighbour
+};
+
+class PressurePoissonSolver {
+ public:
+  // Sets particles.pressure for every pressure-carrying particle (0 on the surface) and
+  // free_surface[i] = 1 for surface particles. `n0` is the number-density constant of the
+  // source term, `laplacian` the radius and constants of the Laplacian model.
+  PressureSolveResult solve(ParticleSet& particles, const NeighbourList& neighbours,
+                            const std::vector<double>& number_density, const std::vector<char>& carries_pressure,
+                            const OperatorRadius& laplacian, double n0, double dt,
+                            const PressureSolveSettings& settings, std::vector<double>& free_surface);
+
+  // The last assembled system (for tests).
+  const Eigen::SparseMatrix<double, Eigen::RowMajor>& matrix() const { return matrix_; }
+  const Eigen::VectorXd& rhs() const { return rhs_; }
+
+ private:
+  std::vector<int> row_of_;  // particle -> unknown index, -1 if not an unknown
+  std::vector<int> particle_of_;
+  std::vector<Eigen::Triplet<double>> triplets_;
+  Eigen::SparseMatrix<double, Eigen::RowMajor> matrix_;
+  Eigen::VectorXd rhs_;
+  Eigen::VectorXd guess_;
+  Eigen::VectorXd solution_;
+};
+
+}  // namespace mps_lab::mps
