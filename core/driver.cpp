@@ -71,7 +71,10 @@ const StepReport& Simulation::advance() {
                            " statistics for " + std::to_string(info_.series_columns.size()) + " declared columns");
   }
   ++steps_;
-  time_ += dt;
+  const double increment = dt - time_compensation_;
+  const double sum = time_ + increment;
+  time_compensation_ = (sum - time_) - increment;
+  time_ = sum;
   last_dt_ = dt;
   total_iterations_ += report_.solver_iterations;
   max_iterations_ = std::max(max_iterations_, report_.solver_iterations);

@@ -47,6 +47,7 @@ class Simulation {
   ParticleSet particles_;
   std::unique_ptr<Method> method_;
   double time_ = 0.0;
+  double time_compensation_ = 0.0;  // Kahan summation: 4000 x 5e-4 s ends at 2 s, not 1.9999999999998
   long long steps_ = 0;
   double last_dt_ = 0.0;
   StepReport report_;

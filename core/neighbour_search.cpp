@@ -15,8 +15,13 @@ std::uint32_t NeighbourList::max_count() const {
 }
 
 std::int64_t CellList::cell_of(const Vec2& x) const {
-  const auto ix = static_cast<std::int64_t>(std::floor((x.x() - origin_.x()) / cell_size_));
-  const auto iy = static_cast<std::int64_t>(std::floor((x.y() - origin_.y()) / cell_size_));
+  // Clamped to the interior: rounding can put the extreme particles a hair into the padding,
+  // and the 3x3 stencil must stay inside the grid. Shifting a particle lying on a cell
+  // boundary to the neighbouring cell loses no pair, since the cell size is >= the radius.
+  auto ix = static_cast<std::int64_t>(std::floor((x.x() - origin_.x()) / cell_size_));
+  auto iy = static_cast<std::int64_t>(std::floor((x.y() - origin_.y()) / cell_size_));
+  ix = std::clamp<std::int64_t>(ix, 1, cells_x_ - 2);
+  iy = std::clamp<std::int64_t>(iy, 1, cells_y_ - 2);
   return iy * cells_x_ + ix;
 }
 

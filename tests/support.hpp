@@ -1,0 +1,110 @@
+#pragma once
+// Helpers shared by the tests: registries, scenes from the scenes/ folder with overrides,
+// temporary folders, running the built binary.
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "core/method.hpp"
+#include "core/scene.hpp"
+#include "core/wall_treatment.hpp"
+
+namespace mps_lab::testing {
+
+struct Registries {
+  MethodRegistry methods = builtin_methods();
+  WallTreatmentRegistry walls = builtin_wall_treatments();
+};
+
+inline const Registries& registries() {
+  static const Registries instance;  // immutable after construction
+  return instance;
+}
+
+inline std::string scene_path(const std::string& name) { return std::string(MPS_LAB_SOURCE_DIR) + "/scenes/" + name; }
+
+inline Scene load(const std::string& name, const std::vector<std::string>& overrides = {}) {
+  return load_scene(scene_path(name), overrides, registries().methods, registries().walls);
+}
+
+inline Scene parse(const std::string& json_text, const std::string& source = "inline.json") {
+  return parse_scene(nlohmann::json::parse(json_text), source, registries().methods, registries().walls);
+}
+
+// A fresh empty folder under the system temp dir.
+inline std::filesystem::path fresh_directory(const std::string& name) {
+  const auto path = std::filesystem::temp_directory_path() / ("mps_lab_test_" + name);
+  std::filesystem::remove_all(path);
+  std::filesystem::create_directories(path);
+  return path;
+}
+
+inline std::string read_text(const std::filesystem::path& path) {
+  std::ifstream file(path);
+  std::stringstream text;
+  text << file.rdbuf();
+  return text.str();
+}
+
+inline void write_text(const std::filesystem::path& path, const std::string& text) {
+  std::ofstream file(path);
+  file << text;
+}
+
+struct CommandResult {
+  int exit_code = -1;
+  std::string stdout_text;
+  std::string stderr_text;
+};
+
+// Runs build/mps_lab with the given arguments (already shell-quoted where needed).
+inline CommandResult run_mps_lab(const std::string& arguments, const std::string& tag) {
+  const auto dir = fresh_directory("cli_" + tag);
+  const std::string command = std::string(MPS_LAB_BINARY) + " " + arguments + " > " + (dir / "out").string() +
+                              " 2> " + (dir / "err").string();
+  const int status = std::system(command.c_str());
+  CommandResult result;
+  result.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  result.stdout_text = read_text(dir / "out");
+  result.stderr_text = read_text(dir / "err");
+  return result;
+}
+
+// Reads a CSV with a header into named columns of doubles.
+struct Table {
+  std::vector<std::string> header;
+  std::vector<std::vector<double>> rows;
+  std::vector<double> column(const std::string& name) const {
+    std::size_t index = 0;
+    while (index < header.size() && header[index] != name) ++index;
+    if (index == header.size()) throw std::runtime_error("no column " + name);
+    std::vector<double> values;
+    for (const auto& row : rows) values.push_back(row.at(index));
+    return values;
+  }
+};
+
+inline Table read_table(const std::filesystem::path& path) {
+  std::ifstream file(path);
+  std::string line;
+  Table table;
+  while (std::getline(file, line)) {
+    std::vector<std::string> cells;
+    std::stringstream stream(line);
+    std::string cell;
+    while (std::getline(stream, cell, ',')) cells.push_back(cell);
+    if (table.header.empty()) {
+      table.header = cells;
+      continue;
+    }
+    std::vector<double> row;
+    for (const auto& text : cells) row.push_back(std::stod(text));
+    table.rows.push_back(row);
+  }
+  return table;
+}
+
+}  // namespace mps_lab::testing

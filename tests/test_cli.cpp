@@ -1,0 +1,79 @@
+// The command line: listing, a run, and bad input giving one line and a non-zero exit.
+#include <catch2/catch.hpp>
+
+#include <unistd.h>
+
+#include "support.hpp"
+
+using namespace mps_lab::testing;
+
+namespace {
+
+std::size_t line_count(const std::string& text) {
+  std::size_t lines = 0;
+  for (char c : text) lines += c == '\n';
+  return lines;
+}
+
+}  // namespace
+
+TEST_CASE("mps_lab methods lists each method on one line", "[cli]") {
+  const auto result = run_mps_lab("methods", "methods");
+  CHECK(result.exit_code == 0);
+  CHECK_THAT(result.stdout_text, Catch::StartsWith("mps ") && Catch::Contains("semi-implicit MPS"));
+  CHECK(line_count(result.stdout_text) == registries().methods.all().size());
+}
+
+TEST_CASE("mps_lab run with --out, --set and --end-time", "[cli]") {
+  const auto out = fresh_directory("cli_run_out");
+  const auto result = run_mps_lab("run --method=mps " + scene_path("dambreak.json") + " --out " + out.string() +
+                                      " --set methods.mps.relaxation=0.25 --end-time 0.05",
+                                  "run");
+  CHECK(result.exit_code == 0);
+  CHECK(result.stderr_text.empty());  // no progress line when stderr is not a terminal
+  const auto summary = nlohmann::json::parse(read_text(out / "run.json"));
+  CHECK(summary["steps"] == 100);
+  CHECK(summary["parameters"]["relaxation"] == 0.25);
+  CHECK(std::filesystem::exists(out / "output_000100.vtk"));
+}
+
+TEST_CASE("bad input: one line naming the problem, non-zero exit, nothing run", "[cli][input]") {
+  const auto dir = fresh_directory("cli_bad_input");
+  write_text(dir / "truncated.json", R"({"domain": {"min": [0, 0], "max": [1, 0.6]}, "fluid_bl)");
+  write_text(dir / "unknown_key.json", R"({"domain": {"min": [0, 0], "max": [1, 0.6]},
+    "fluid_blocks": [{"min": [0, 0], "max": [0.25, 0.5]}], "physics": {"viscosity": 1e-6}})");
+  struct Case {
+    std::string arguments, expected;
+    int exit_code;
+  };
+  const std::vector<Case> cases = {
+      {"run " + (dir / "truncated.json").string(), "truncated.json: not valid JSON", 2},
+      {"run " + (dir / "unknown_key.json").string(), "unknown_key.json: physics.viscosity: unknown key", 2},
+      {"run " + (dir / "missing.json").string(), "missing.json: cannot open the scene file", 2},
+      {"run --method=sph " + scene_path("dambreak.json"), "--method: sph: unknown method (registered: mps", 2},
+      {"run " + scene_path("dambreak.json") + " --set time.time_step=-1", "time.time_step: got -1, expected a number > 0", 2},
+      {"run " + scene_path("dambreak.json") + " --set nonsense", "--set: nonsense: expected key=value", 2},
+      {"run " + scene_path("dambreak.json") + " --out /proc/mps_lab_cannot_write", "/proc/mps_lab_cannot_write: cannot create the output folder", 3},
+  };
+  for (const auto& test : cases) {
+    INFO(test.arguments);
+    const auto result = run_mps_lab(test.arguments, "bad");
+    CHECK(result.exit_code == test.exit_code);
+    CHECK(line_count(result.stderr_text) == 1);
+    CHECK_THAT(result.stderr_text, Catch::StartsWith("mps_lab: error: ") && Catch::Contains(test.expected));
+  }
+  // A read-only folder (when not running as root, which ignores permissions).
+  const auto read_only = dir / "read_only";
+  std::filesystem::create_directories(read_only);
+  std::filesystem::permissions(read_only, std::filesystem::perms::owner_read | std::filesystem::perms::owner_exec);
+  if (::geteuid() != 0) {
+    const auto result = run_mps_lab("run " + scene_path("dambreak.json") + " --out " + read_only.string(), "ro");
+    CHECK(result.exit_code == 3);
+    CHECK_THAT(result.stderr_text, Catch::Contains("not writable"));
+  }
+  // An existing file where the folder should be.
+  write_text(dir / "a_file", "x");
+  const auto result = run_mps_lab("run " + scene_path("dambreak.json") + " --out " + (dir / "a_file").string(), "file");
+  CHECK(result.exit_code == 3);
+  CHECK(line_count(result.stderr_text) == 1);
+}
