@@ -38,7 +38,7 @@ void mps_lab_register_wall_treatment_cfl_velocity_clamp(mps_lab::WallTreatmentRe
   using namespace mps_lab;
   registry.add({"cfl_velocity_clamp",
                 "caps fluid speed at CFL l0/dt after the explicit update (MPS spec 6.1)",
-                {"mps"},
+                {"mps", "isph", "dfsph"},
                 {number_parameter("cfl", 0.2, "", "Courant number of the cap, v_max = cfl l0 / dt").above(0.0)},
                 10,
                 [](const WallTreatmentSetup& setup) { return std::make_unique<CflVelocityClamp>(setup); }});

@@ -51,7 +51,7 @@ void mps_lab_register_wall_treatment_wall_repulsion(mps_lab::WallTreatmentRegist
   using namespace mps_lab;
   registry.add({"wall_repulsion",
                 "one-way push of fluid particles closer than l0 to a wall particle (MPS spec 6.2)",
-                {"mps"},
+                {"mps", "isph", "dfsph"},
                 {number_parameter("distance", 1.0, "l0", "range r_rep of the repulsion").above(0.0).at_most(2.0),
                  number_parameter("coefficient_factor", 0.5, "",
                                   "C = factor |g| / l0 (spec: 0.5, i.e. C = 196.2 at l0 = 0.025 m)")
