@@ -2,25 +2,26 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <vector>
 
 #include "core/neighbour_search.hpp"
+#include "core/sph_kernels.hpp"
 
 namespace mps_lab {
 
-std::size_t label_fluid_bodies(const ParticleSet& particles, double link_distance, std::vector<int>& label,
-                               int& largest) {
+namespace {
+
+// Connected bodies of fluid from a neighbour list (pairs closer than link_distance).
+std::size_t label_bodies(const ParticleSet& particles, const NeighbourList& links, double link_distance,
+                         std::vector<int>& label, int& largest) {
   const std::size_t n = particles.size();
-  std::vector<ParticleType> fluid_only(particles.type);
-  for (auto& kind : fluid_only) {
-    if (kind != ParticleType::Fluid) kind = ParticleType::Ghost;  // search fluid only
-  }
-  const NeighbourList links = find_neighbours(particles.position, fluid_only, link_distance);
+  const double link2 = link_distance * link_distance;
   label.assign(n, -1);
   std::vector<std::size_t> sizes;
   std::vector<std::uint32_t> stack;
   for (std::size_t seed = 0; seed < n; ++seed) {
-    if (fluid_only[seed] != ParticleType::Fluid || label[seed] >= 0) continue;
+    if (particles.type[seed] != ParticleType::Fluid || label[seed] >= 0) continue;
     const int component = static_cast<int>(sizes.size());
     sizes.push_back(0);
     stack.assign(1, static_cast<std::uint32_t>(seed));
@@ -31,16 +32,24 @@ std::size_t label_fluid_bodies(const ParticleSet& particles, double link_distanc
       ++sizes.back();
       for (std::uint32_t k = links.begin(i); k < links.end(i); ++k) {
         const std::uint32_t j = links.indices[k];
-        if (label[j] < 0) {
-          label[j] = component;
-          stack.push_back(j);
-        }
+        if (label[j] >= 0 || particles.type[j] != ParticleType::Fluid) continue;
+        if ((particles.position[j] - particles.position[i]).squaredNorm() >= link2) continue;
+        label[j] = component;
+        stack.push_back(j);
       }
     }
   }
   largest = sizes.empty() ? -1
                           : static_cast<int>(std::max_element(sizes.begin(), sizes.end()) - sizes.begin());
   return sizes.size();
+}
+
+}  // namespace
+
+std::size_t label_fluid_bodies(const ParticleSet& particles, double link_distance, std::vector<int>& label,
+                               int& largest) {
+  const NeighbourList links = find_neighbours(particles.position, particles.type, link_distance);
+  return label_bodies(particles, links, link_distance, label, largest);
 }
 
 FlowMeasures measure_flow(const ParticleSet& particles, const Scene& scene) {
@@ -51,14 +60,28 @@ FlowMeasures measure_flow(const ParticleSet& particles, const Scene& scene) {
   const double bed = scene.domain.min.y();
   const double wall_surface = back_wall + 0.5 * l0;
   const double probe_limit = wall_surface + scene.diagnostics.height_probe_width * l0;
+  const double link = scene.diagnostics.front_link_distance * l0;
+  const SphKernel kernel(SphKernelKind::CubicSpline, scene.diagnostics.density_support * l0);
 
+  // One search serves the bodies (radius `link`) and the density sums (kernel support).
+  const NeighbourList neighbours =
+      find_neighbours(particles.position, particles.type, std::max(link, kernel.support()));
   std::vector<int> label;
   int largest = -1;
-  label_fluid_bodies(particles, scene.diagnostics.front_link_distance * l0, label, largest);
+  label_bodies(particles, neighbours, link, label, largest);
+
+  // The kernel sum of a particle on the undisturbed lattice (the reference density / m).
+  double lattice_sum = 0.0;
+  const int reach = static_cast<int>(std::ceil(kernel.support() / l0));
+  for (int i = -reach; i <= reach; ++i) {
+    for (int j = -reach; j <= reach; ++j) lattice_sum += kernel.value(l0 * std::hypot(i, j));
+  }
 
   double bulk_front = -std::numeric_limits<double>::infinity();
   double any_front = bulk_front;
   double top = -std::numeric_limits<double>::infinity();
+  double density_deviation = 0.0;
+  std::size_t full_support = 0;
   for (std::size_t i = 0; i < particles.size(); ++i) {
     switch (particles.type[i]) {
       case ParticleType::Wall: ++out.wall; continue;
@@ -74,10 +97,33 @@ FlowMeasures measure_flow(const ParticleSet& particles, const Scene& scene) {
       bulk_front = std::max(bulk_front, x.x());
       if (x.x() < probe_limit) top = std::max(top, x.y());
     }
+    double sum = kernel.value(0.0);
+    for (std::uint32_t k = neighbours.begin(i); k < neighbours.end(i); ++k) {
+      sum += kernel.value((particles.position[neighbours.indices[k]] - x).norm());
+    }
+    const double ratio = sum / lattice_sum;
+    if (ratio >= 0.9) {
+      density_deviation += std::fabs(ratio - 1.0);
+      ++full_support;
+    }
   }
   out.front = std::isfinite(bulk_front) ? bulk_front - back_wall : 0.0;
   out.front_max_x = std::isfinite(any_front) ? any_front - back_wall : 0.0;
   out.height = std::isfinite(top) ? top - bed : 0.0;
+  out.density_error = full_support > 0 ? density_deviation / static_cast<double>(full_support) : 0.0;
+
+  // Pressure sensors: kernel-weighted (Shepard) average of the fluid pressure around the
+  // point; 0 when no fluid particle is within the kernel's support (a dry sensor).
+  for (const auto& sensor : scene.diagnostics.pressure_sensors) {
+    double weighted = 0.0, weights = 0.0;
+    for (std::size_t i = 0; i < particles.size(); ++i) {
+      if (particles.type[i] != ParticleType::Fluid) continue;
+      const double w = kernel.value((particles.position[i] - sensor.position).norm());
+      weighted += w * particles.pressure[i];
+      weights += w;
+    }
+    out.sensor_pressure.push_back(weights > 0.0 ? weighted / weights : 0.0);
+  }
   return out;
 }
 

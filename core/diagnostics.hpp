@@ -13,6 +13,7 @@
 // diagnostics.front_link_distance are connected), so single splashed drops do not move the
 // front; front_max_x is the raw max over all fluid particles, for comparison.
 #include <cstddef>
+#include <vector>
 
 #include "core/particles.hpp"
 #include "core/scene.hpp"
@@ -25,6 +26,12 @@ struct FlowMeasures {
   double height = 0.0;          // m, bulk fluid within height_probe_width of the back wall
   double kinetic_energy = 0.0;  // J per metre of depth: sum 1/2 rho l0^2 |v|^2 over fluid
   double max_speed = 0.0;       // m/s over fluid particles
+  // Method-independent compressibility: mean |rho_i / rho_lattice - 1| over fluid particles
+  // with nearly full support (rho_i >= 0.9 rho_lattice), rho_i the summation density of
+  // fluid and wall particles with a cubic spline of support diagnostics.density_support,
+  // rho_lattice the same sum on the undisturbed lattice. Every method is measured the same way.
+  double density_error = 0.0;
+  std::vector<double> sensor_pressure;  // Pa, per scene pressure sensor (Shepard average of fluid pressure)
   std::size_t fluid = 0;
   std::size_t wall = 0;
   std::size_t ghost = 0;

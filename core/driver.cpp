@@ -44,12 +44,13 @@ void check_finite(const ParticleSet& particles, long long step) {
 
 }  // namespace
 
-std::vector<std::string> series_columns(const MethodInfo& method) {
+std::vector<std::string> series_columns(const MethodInfo& method, const Scene& scene) {
   std::vector<std::string> columns = {"step",           "time",           "dt",
                                       "front",          "front_max_x",    "height",
-                                      "kinetic_energy", "max_speed",      "fluid_particles",
-                                      "ghost_particles", "solver_iterations", "solver_residual",
-                                      "wall_seconds"};
+                                      "kinetic_energy", "max_speed",      "density_error",
+                                      "fluid_particles", "ghost_particles", "solver_iterations",
+                                      "solver_residual", "wall_seconds"};
+  for (const auto& sensor : scene.diagnostics.pressure_sensors) columns.push_back("pressure_" + sensor.name);
   columns.insert(columns.end(), method.series_columns.begin(), method.series_columns.end());
   return columns;
 }
@@ -102,7 +103,7 @@ RunResult run_simulation(const RunOptions& options, const MethodRegistry& method
 
   RunResult result;
   result.directory = options.output_directory.empty() ? scene.output.directory : options.output_directory;
-  const auto columns = series_columns(*info);
+  const auto columns = series_columns(*info, scene);
   RunOutput output(result.directory, scene.output.csv, scene.output.vtk, columns);
   output.prepare();
 
@@ -152,11 +153,13 @@ RunResult run_simulation(const RunOptions& options, const MethodRegistry& method
                                measures.height,
                                measures.kinetic_energy,
                                measures.max_speed,
+                               measures.density_error,
                                static_cast<double>(measures.fluid),
                                static_cast<double>(measures.ghost),
                                static_cast<double>(report.solver_iterations),
                                report.solver_residual,
                                seconds_since(started)};
+    row.insert(row.end(), measures.sensor_pressure.begin(), measures.sensor_pressure.end());
     if (simulation.steps() == 0) {
       row.resize(row.size() + info->series_columns.size(), 0.0);
     } else {

@@ -80,8 +80,9 @@ struct RunResult {
 RunResult run_simulation(const RunOptions& options, const MethodRegistry& methods,
                          const WallTreatmentRegistry& walls);
 
-// The series.csv columns of a method: the common ones, then the method's own.
-std::vector<std::string> series_columns(const MethodInfo& method);
+// The series.csv columns of a run: the common ones, the scene's pressure sensors, then the
+// method's own.
+std::vector<std::string> series_columns(const MethodInfo& method, const Scene& scene);
 
 const char* git_revision();
 

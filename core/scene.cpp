@@ -1,5 +1,6 @@
 #include "core/scene.hpp"
 
+#include <cctype>
 #include <cmath>
 #include <fstream>
 #include <sstream>
@@ -80,6 +81,17 @@ std::vector<ParameterSpec> diagnostics_keys() {
       number_parameter("height_probe_width", 1.5, "l0",
                        "water height is measured on particles within this distance of the back-wall surface")
           .above(0.0),
+      number_parameter("density_support", 2.4, "l0",
+                       "support of the cubic-spline kernel of the method-independent density error")
+          .above(1.0)
+          .at_most(4.0),
+  };
+}
+
+std::vector<ParameterSpec> pressure_sensor_keys() {
+  return {
+      string_parameter("name", "", "sensor name; series.csv gets a column pressure_<name>").mandatory(),
+      vector2_parameter("position", Vec2::Zero(), "m", "sensor point").mandatory(),
   };
 }
 
@@ -141,7 +153,8 @@ std::vector<WallTreatmentChoice> resolve_wall_treatments(const MethodInfo& metho
 std::vector<SceneBlockSpec> shared_scene_keys() {
   return {{"", top_level_keys()},     {"domain", domain_keys()},   {"walls", wall_keys()},
           {"fluid_blocks[]", fluid_block_keys()}, {"physics", physics_keys()}, {"time", time_keys()},
-          {"output", output_keys()},  {"diagnostics", diagnostics_keys()}};
+          {"output", output_keys()},  {"diagnostics", diagnostics_keys()},
+          {"diagnostics.pressure_sensors[]", pressure_sensor_keys()}};
 }
 
 const MethodConfig& Scene::method_config(const std::string& name) const {
@@ -262,9 +275,29 @@ Scene parse_scene(nlohmann::json document, const std::string& source, const Meth
     if (format == "vtk") scene.output.vtk = true;
   }
 
+  const auto& diagnostics_block = block_or_null(document, "diagnostics");
   const auto diagnostics =
-      resolve_parameters(diagnostics_keys(), block_or_null(document, "diagnostics"), source, "diagnostics");
-  scene.diagnostics = {diagnostics.number("front_link_distance"), diagnostics.number("height_probe_width")};
+      resolve_parameters(diagnostics_keys(), diagnostics_block, source, "diagnostics", {"pressure_sensors"});
+  scene.diagnostics.front_link_distance = diagnostics.number("front_link_distance");
+  scene.diagnostics.height_probe_width = diagnostics.number("height_probe_width");
+  scene.diagnostics.density_support = diagnostics.number("density_support");
+  if (diagnostics_block.is_object() && diagnostics_block.contains("pressure_sensors")) {
+    const auto& sensors = diagnostics_block.at("pressure_sensors");
+    if (!sensors.is_array()) {
+      throw_input_error(source, "diagnostics.pressure_sensors", "got " + json_type_name(sensors) + ", expected an array");
+    }
+    std::set<std::string> names;
+    for (std::size_t k = 0; k < sensors.size(); ++k) {
+      const std::string path = "diagnostics.pressure_sensors[" + std::to_string(k) + "]";
+      const auto sensor = resolve_parameters(pressure_sensor_keys(), sensors[k], source, path);
+      const std::string& name = sensor.string("name");
+      bool valid = !name.empty();
+      for (char c : name) valid = valid && (std::isalnum(static_cast<unsigned char>(c)) || c == '_');
+      if (!valid) throw_input_error(source, path + ".name", "got \"" + name + "\", expected letters, digits and _");
+      if (!names.insert(name).second) throw_input_error(source, path + ".name", "duplicate sensor name \"" + name + "\"");
+      scene.diagnostics.pressure_sensors.push_back({name, sensor.vector2("position")});
+    }
+  }
 
   // Geometry that makes sense.
   const double l0 = scene.particle_spacing;

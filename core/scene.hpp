@@ -53,10 +53,18 @@ struct OutputControl {
   bool vtk = true;
 };
 
+// A point where series.csv records the fluid pressure (column "pressure_<name>").
+struct PressureSensor {
+  std::string name;
+  Vec2 position = Vec2::Zero();  // m
+};
+
 // Definitions of the measured quantities in series.csv (see docs/scene-format.md).
 struct DiagnosticsControl {
   double front_link_distance = 1.5;   // l0: particles closer than this belong to one body of water
   double height_probe_width = 1.5;    // l0: the back-wall height probes particles this close to the wall
+  double density_support = 2.4;       // l0: support of the kernel of the common density measure
+  std::vector<PressureSensor> pressure_sensors;
 };
 
 // A method's resolved block: its parameters and its wall treatments.

@@ -22,7 +22,8 @@ TEST_CASE("every shared scene key and wall-treatment parameter is in docs/scene-
     }
     if (!block.path.empty()) {
       INFO("block " << block.path);
-      const std::string name = block.path.substr(0, block.path.find('['));
+      std::string name = block.path.substr(0, block.path.find('['));
+      name = name.substr(name.rfind('.') + 1);  // "diagnostics.pressure_sensors" -> "pressure_sensors"
       CHECK(text.find("`" + name) != std::string::npos);
     }
   }
