@@ -12,57 +12,9 @@ import argparse
 import os
 import sys
 
-import matplotlib
-
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
-
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import figures  # noqa: E402
 import mps_lab_data as data  # noqa: E402
-
-plt.rcParams.update({"font.size": 11, "axes.grid": True, "grid.alpha": 0.3, "savefig.dpi": 150})
-
-
-def label_of(run: data.Run) -> str:
-    return f"{run.method} (l0 = {run.summary['shared']['particle_spacing']:g} m)"
-
-
-def plot_front(runs: list[data.Run], path: str) -> None:
-    fig, ax = plt.subplots(figsize=(6.4, 4.4))
-    exp_t, exp_z = data.martin_moyce_front()
-    for run in runs:
-        t, z = run.front_curve()
-        rms, largest, _ = data.curve_error(t, z, exp_t, exp_z)
-        ax.plot(t, z, label=f"{label_of(run)}: RMS {rms:.3f}")
-    ax.plot(exp_t, exp_z, "ko", mfc="none", label="Martin & Moyce (1952), $n^2 = 2$")
-    ax.set_xlabel(r"$T = n\,t\,\sqrt{g/a}$")
-    ax.set_ylabel(r"$Z = z/a$ (surge front)")
-    ax.set_xlim(0, 4.0)
-    ax.set_ylim(1, 4.6)
-    ax.legend(loc="upper left", fontsize=9)
-    ax.set_title("Dam break: surge front")
-    fig.tight_layout()
-    fig.savefig(path)
-    plt.close(fig)
-
-
-def plot_height(runs: list[data.Run], path: str) -> None:
-    fig, ax = plt.subplots(figsize=(6.4, 4.4))
-    exp_tau, exp_h = data.martin_moyce_height()
-    for run in runs:
-        tau, h = run.height_curve()
-        rms, _, _ = data.curve_error(tau, h, exp_tau, exp_h)
-        ax.plot(tau, h, label=f"{label_of(run)}: RMS {rms:.3f}")
-    ax.plot(exp_tau, exp_h, "ks", mfc="none", label="Martin & Moyce (1952), $n^2 = 2$")
-    ax.set_xlabel(r"$\tau = t\,\sqrt{g/a}$")
-    ax.set_ylabel(r"$H^* = h/(n^2 a)$ (residual height)")
-    ax.set_xlim(0, 8.0)
-    ax.set_ylim(0, 1.05)
-    ax.legend(loc="upper right", fontsize=9)
-    ax.set_title("Dam break: residual column height")
-    fig.tight_layout()
-    fig.savefig(path)
-    plt.close(fig)
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -79,8 +31,8 @@ def main(argv: list[str] | None = None) -> int:
             return 2
     out = args.out or args.runs[0]
     os.makedirs(out, exist_ok=True)
-    plot_front(runs, os.path.join(out, "front.png"))
-    plot_height(runs, os.path.join(out, "height.png"))
+    figures.plot_front(runs, os.path.join(out, "front.png"))
+    figures.plot_height(runs, os.path.join(out, "height.png"))
     exp_t, exp_z = data.martin_moyce_front()
     for run in runs:
         t, z = run.front_curve()

@@ -1,10 +1,13 @@
 #include "app/commands.hpp"
 
 #include <cstdio>
+#include <cstdlib>
+#include <filesystem>
 #include <iostream>
 
 #include <unistd.h>
 
+#include "core/compare.hpp"
 #include "core/driver.hpp"
 #include "core/error.hpp"
 #include "core/method.hpp"
@@ -37,6 +40,66 @@ int run_command(const RunCommand& command) {
                 summary["solver"]["mean_iterations"].get<double>(), result.directory.c_str());
   }
   return 0;
+}
+
+namespace {
+
+// The analysis scripts need numpy and matplotlib; MPS_LAB_PYTHON is the interpreter CMake
+// found (Debian's /usr/bin/python3 by default). Returns "" when it cannot run them.
+std::string analysis_python() {
+  const std::string python = MPS_LAB_PYTHON;
+  if (python.empty()) return "";
+  const std::string probe = "'" + python + "' -c 'import numpy, matplotlib' > /dev/null 2>&1";
+  return std::system(probe.c_str()) == 0 ? python : "";
+}
+
+}  // namespace
+
+int compare_command(const CompareCommand& command) {
+  const MethodRegistry methods = builtin_methods();
+  const WallTreatmentRegistry walls = builtin_wall_treatments();
+  CompareOptions options;
+  options.scene_path = command.scene;
+  options.methods = command.methods;
+  std::string out = command.out;
+  if (out.empty()) out = "runs/" + std::filesystem::path(command.scene).stem().string();
+  options.output_directory = out;
+  options.overrides = command.set;
+  options.end_time = command.end_time;
+  options.progress = !command.quiet;
+  const auto rows = compare_methods(options, methods, walls);
+
+  bool all_completed = true;
+  if (!command.quiet) {
+    std::printf("%-8s %-10s %7s %9s %8s %10s %10s %12s %10s\n", "method", "status", "steps", "wall [s]", "iter",
+                "front RMS", "shift", "RMS shifted", "height RMS");
+  }
+  for (const auto& row : rows) {
+    all_completed = all_completed && row.status == "completed";
+    if (!command.quiet) {
+      std::printf("%-8s %-10s %7lld %9.2f %8.1f %10.3f %+10.3f %12.3f %10.3f\n", row.method.c_str(), row.status.c_str(),
+                  row.steps, row.wall_seconds, row.mean_solver_iterations, row.front_rms, row.front_shift,
+                  row.front_rms_shifted, row.height_rms);
+    }
+  }
+  if (command.analysis) {
+    const std::string python = analysis_python();
+    if (python.empty()) {
+      std::fprintf(stderr, "mps_lab: figures and report skipped: %s cannot import numpy and matplotlib "
+                           "(apt-get install python3-numpy python3-matplotlib)\n", MPS_LAB_PYTHON);
+    } else {
+      const std::string script = std::string(MPS_LAB_SOURCE_DIR) + "/analysis/compare.py";
+      const std::string call = "'" + python + "' '" + script + "' '" + out + "'" + (command.quiet ? " --quiet" : "");
+      if (std::system(call.c_str()) != 0) {
+        std::fprintf(stderr, "mps_lab: the analysis script failed: %s\n", call.c_str());
+        return 1;
+      }
+      if (!command.quiet) std::printf("report: %s/report.md\n", out.c_str());
+    }
+  } else if (!command.quiet) {
+    std::printf("summary: %s/summary.csv\n", out.c_str());
+  }
+  return all_completed ? 0 : 1;
 }
 
 int methods_command(bool with_parameters) {

@@ -16,7 +16,18 @@ struct RunCommand {
   bool quiet = false;
 };
 
+struct CompareCommand {
+  std::string scene;
+  std::vector<std::string> methods;
+  std::string out;
+  std::vector<std::string> set;
+  std::optional<double> end_time;
+  bool analysis = true;
+  bool quiet = false;
+};
+
 int run_command(const RunCommand& command);
+int compare_command(const CompareCommand& command);
 int methods_command(bool with_parameters);
 
 }  // namespace mps_lab::app

@@ -1,5 +1,6 @@
 // mps_lab: command-line front end of the testbed.
 //   mps_lab run --method=mps scenes/dambreak.json [--out DIR] [--set key=value]... [--end-time T]
+//   mps_lab compare scenes/dambreak.json [--methods mps,isph,dfsph] [--out runs/dambreak]
 //   mps_lab methods [--parameters]
 #include <cstdio>
 #include <exception>
@@ -25,6 +26,19 @@ int main(int argc, char** argv) {
   run_app->add_option("--end-time", run.end_time, "simulated end time in s (overrides time.end_time)");
   run_app->add_flag("--quiet,-q", run.quiet, "no progress line and no summary line");
 
+  mps_lab::app::CompareCommand compare;
+  auto* compare_app = app.add_subcommand(
+      "compare", "run several methods on one scene, write summary.csv, figures and report.md");
+  compare_app->add_option("scene", compare.scene, "scene file (JSON)")->required();
+  compare_app->add_option("--methods", compare.methods, "comma-separated methods (default: all registered)")
+      ->delimiter(',');
+  compare_app->add_option("--out,-o", compare.out, "output folder (default: runs/<scene name>)");
+  compare_app->add_option("--set,-s", compare.set, "override a scene key for every method (repeatable)")
+      ->multi_option_policy(CLI::MultiOptionPolicy::TakeAll);
+  compare_app->add_option("--end-time", compare.end_time, "simulated end time in s");
+  compare_app->add_flag("!--no-analysis", compare.analysis, "skip the Python figures and report");
+  compare_app->add_flag("--quiet,-q", compare.quiet, "no progress and no table");
+
   bool with_parameters = false;
   auto* methods_app = app.add_subcommand("methods", "list the registered methods, one line each");
   methods_app->add_flag("--parameters,-p", with_parameters, "also list every parameter, default and wall treatment");
@@ -37,6 +51,7 @@ int main(int argc, char** argv) {
 
   try {
     if (app.got_subcommand(run_app)) return mps_lab::app::run_command(run);
+    if (app.got_subcommand(compare_app)) return mps_lab::app::compare_command(compare);
     if (app.got_subcommand(methods_app)) return mps_lab::app::methods_command(with_parameters);
   } catch (const mps_lab::InputError& error) {
     std::fprintf(stderr, "mps_lab: error: %s\n", error.what());
