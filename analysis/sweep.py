@@ -1,0 +1,331 @@
+#!/usr/bin/env python3
+"""The speed-accuracy study: a grid of `mps_lab run` cases, their cost and their error.
+
+    /usr/bin/python3 analysis/sweep.py SPEC.json --out runs/sweep            # run (resumes), collect, plot
+    /usr/bin/python3 analysis/sweep.py SPEC.json --out runs/sweep --jobs-file jobs.txt   # only write the job list
+    /usr/bin/python3 analysis/sweep.py SPEC.json --out runs/sweep --collect  # only collect and plot
+
+The grid is method x particle spacing x time-step rule x solver tolerance (SPEC format in
+docs/speed-vs-accuracy.md; example: analysis/sweeps/dambreak.json). Every case is one
+`mps_lab run` into <out>/cases/<case>/. A case whose run.json says "completed" or "failed"
+is finished and is not run again, so an interrupted sweep resumes where it stopped.
+Locally, cases run in parallel up to --parallel (default: the number of cores), each with
+OMP_NUM_THREADS = cores / parallel. The job list has one shell command per line, for GNU
+parallel or a Slurm array (`sed -n "${SLURM_ARRAY_TASK_ID}p" jobs.txt | bash`).
+
+Collected into <out>/sweep.csv, one row per case:
+  cost:  wall_seconds, steps, fluid_particles, particle_steps_per_second, mean_solver_iterations
+  error: front_rms (Z against Martin & Moyce, unshifted), front_rms_shifted, front_best_shift,
+         self_convergence (RMS of Z(T) - Z_ref(T) on T in [0, T_max] every 0.05, against the
+         finest completed case of the same method with the same time-step rule and the
+         tightest tolerance)
+Figures: <out>/pareto.png (front error against wall time, log axes, Pareto front marked) and
+<out>/convergence.png (errors against l0, fitted order per method).
+"""
+from __future__ import annotations
+
+import argparse
+import concurrent.futures
+import csv
+import json
+import math
+import os
+import shlex
+import subprocess
+import sys
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import mps_lab_data as data  # noqa: E402
+
+ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+DEFAULT_BINARY = os.path.join(ROOT, "build", "mps_lab")
+FINISHED = ("completed", "failed")
+
+
+class SpecError(Exception):
+    pass
+
+
+def load_spec(path: str) -> dict:
+    try:
+        with open(path) as handle:
+            spec = json.load(handle)
+    except (OSError, json.JSONDecodeError) as error:
+        raise SpecError(f"{path}: {error}") from error
+    known = {"description", "scene", "end_time", "spacings", "methods", "reference_speed"}
+    for key in spec:
+        if key not in known:
+            raise SpecError(f"{path}: {key}: unknown key (expected one of: {', '.join(sorted(known))})")
+    for key in ("scene", "spacings", "methods"):
+        if key not in spec:
+            raise SpecError(f"{path}: {key}: missing")
+    if not spec["spacings"] or any(not isinstance(l0, (int, float)) or l0 <= 0 for l0 in spec["spacings"]):
+        raise SpecError(f"{path}: spacings: expected a non-empty array of numbers > 0")
+    for method, axes in spec["methods"].items():
+        for key in axes:
+            if key not in ("time_step", "tolerance"):
+                raise SpecError(f"{path}: methods.{method}.{key}: unknown key (expected time_step, tolerance)")
+        for axis in ("time_step", "tolerance"):
+            for k, entry in enumerate(axes.get(axis, [{"name": "default"}])):
+                where = f"{path}: methods.{method}.{axis}[{k}]"
+                if "name" not in entry:
+                    raise SpecError(f"{where}.name: missing")
+                for key in entry:
+                    if key not in ("name", "set", "courant"):
+                        raise SpecError(f"{where}.{key}: unknown key (expected name, set, courant)")
+    return spec
+
+
+def case_name(method: str, l0: float, step_rule: str, tolerance: str) -> str:
+    return f"{method}__l0_{l0:g}__{step_rule}__{tolerance}"
+
+
+def cases_of(spec: dict) -> list[dict]:
+    """Every case of the grid: name, method, l0 and the --set overrides."""
+    speed = float(spec.get("reference_speed", 3.13))  # m/s, sqrt(2 g H) of a 0.5 m column
+    cases = []
+    for method, axes in spec["methods"].items():
+        for step_rule in axes.get("time_step", [{"name": "default"}]):
+            for tolerance in axes.get("tolerance", [{"name": "default"}]):
+                for l0 in spec["spacings"]:
+                    overrides = {"particle_spacing": l0}
+                    if "courant" in step_rule:  # fixed dt = C l0 / U, U = reference_speed
+                        overrides["time.time_step"] = step_rule["courant"] * l0 / speed
+                    overrides.update(step_rule.get("set", {}))
+                    overrides.update(tolerance.get("set", {}))
+                    cases.append({"name": case_name(method, l0, step_rule["name"], tolerance["name"]),
+                                  "method": method, "l0": l0, "time_step_rule": step_rule["name"],
+                                  "tolerance": tolerance["name"], "overrides": overrides})
+    return cases
+
+
+def command_of(case: dict, spec: dict, out: str, binary: str, threads: int) -> str:
+    arguments = [binary, "run", f"--method={case['method']}", os.path.join(ROOT, spec["scene"]) if not
+                 os.path.isabs(spec["scene"]) else spec["scene"], "--out", os.path.join(out, "cases", case["name"]),
+                 "--quiet"]
+    if "end_time" in spec:
+        arguments += ["--end-time", repr(float(spec["end_time"]))]
+    for key, value in case["overrides"].items():
+        arguments += ["--set", f"{key}={json.dumps(value)}"]
+    return f"OMP_NUM_THREADS={threads} " + " ".join(shlex.quote(a) for a in arguments)
+
+
+def status_of(out: str, case: dict) -> str:
+    path = os.path.join(out, "cases", case["name"], "run.json")
+    try:
+        with open(path) as handle:
+            return json.load(handle).get("status", "unknown")
+    except (OSError, json.JSONDecodeError):
+        return "missing"
+
+
+def run_cases(cases: list[dict], spec: dict, out: str, binary: str, parallel: int, threads: int) -> None:
+    pending = [case for case in cases if status_of(out, case) not in FINISHED]
+    print(f"sweep: {len(cases)} cases, {len(cases) - len(pending)} finished, running {len(pending)} "
+          f"({parallel} at a time, {threads} thread(s) each)", flush=True)
+
+    def run(case: dict) -> tuple[str, int]:
+        result = subprocess.run(command_of(case, spec, out, binary, threads), shell=True, capture_output=True,
+                                text=True)
+        return case["name"], result.returncode
+
+    with concurrent.futures.ThreadPoolExecutor(max_workers=parallel) as pool:
+        for name, code in pool.map(run, pending):
+            print(f"sweep: {name}: {'done' if code == 0 else f'exit {code}'}", flush=True)
+
+
+def self_convergence(run: data.Run, reference: data.Run) -> float:
+    """RMS of Z(T) - Z_ref(T) on T = 0, 0.05, ... up to the end both reached."""
+    t, z = run.front_curve()
+    t_ref, z_ref = reference.front_curve()
+    end = min(t[-1], t_ref[-1])
+    grid = [0.05 * k for k in range(int(end / 0.05) + 1)]
+    if len(grid) < 2:
+        return math.nan
+    differences = [data.np.interp(T, t, z) - data.np.interp(T, t_ref, z_ref) for T in grid]
+    return float(math.sqrt(sum(d * d for d in differences) / len(differences)))
+
+
+def collect(cases: list[dict], out: str) -> list[dict]:
+    exp_t, exp_z = data.martin_moyce_front()
+    runs = {}
+    rows = []
+    for case in cases:
+        folder = os.path.join(out, "cases", case["name"])
+        row = {key: case[key] for key in ("name", "method", "l0", "time_step_rule", "tolerance")}
+        row["status"] = status_of(out, case)
+        if row["status"] in FINISHED:
+            run = data.load_run(folder)
+            runs[case["name"]] = run
+            summary = run.summary
+            t, z = run.front_curve()
+            rms, _, points = data.curve_error(t, z, exp_t, exp_z)
+            shifted = data.best_shift_error(t, z, exp_t, exp_z)
+            row.update({
+                "wall_seconds": summary.get("wall_seconds", math.nan),
+                "steps": summary.get("steps", 0),
+                "fluid_particles": summary["particles"]["fluid"],
+                "particle_steps_per_second": summary.get("fluid_particle_steps_per_second", math.nan),
+                "mean_solver_iterations": summary.get("solver", {}).get("mean_iterations", math.nan),
+                "front_rms": rms if points else math.nan,
+                "front_rms_shifted": shifted[0] if points else math.nan,
+                "front_best_shift": shifted[3] if points else math.nan,
+            })
+        rows.append(row)
+    # Reference of each (method, time-step rule): the finest completed case, tightest
+    # tolerance = first tolerance listed in the spec.
+    for row in rows:
+        row["self_convergence"] = math.nan
+        row["reference"] = ""
+        candidates = [r for r in rows if r["method"] == row["method"] and r["time_step_rule"] == row["time_step_rule"]
+                      and r["status"] == "completed" and r["name"] in runs]
+        if not candidates or row["name"] not in runs or row["status"] != "completed":
+            continue
+        first_tolerance = next(c["tolerance"] for c in cases if c["method"] == row["method"])
+        preferred = [r for r in candidates if r["tolerance"] == first_tolerance] or candidates
+        reference = min(preferred, key=lambda r: r["l0"])
+        row["reference"] = reference["name"]
+        if reference["name"] != row["name"]:
+            row["self_convergence"] = self_convergence(runs[row["name"]], runs[reference["name"]])
+    return rows
+
+
+COLUMNS = ["name", "method", "l0", "time_step_rule", "tolerance", "status", "wall_seconds", "steps",
+           "fluid_particles", "particle_steps_per_second", "mean_solver_iterations", "front_rms",
+           "front_rms_shifted", "front_best_shift", "self_convergence", "reference"]
+
+
+def write_csv(rows: list[dict], path: str) -> None:
+    temporary = path + ".tmp"
+    with open(temporary, "w", newline="") as handle:
+        writer = csv.DictWriter(handle, fieldnames=COLUMNS, extrasaction="ignore")
+        writer.writeheader()
+        for row in rows:
+            writer.writerow({key: row.get(key, "") for key in COLUMNS})
+    os.replace(temporary, path)
+
+
+def pareto_front(points: list[tuple[float, float]]) -> list[int]:
+    """Indices of the points not dominated in (cost, error): nothing is both cheaper and better."""
+    front = []
+    for i, (cost, error) in enumerate(points):
+        dominated = any((c <= cost and e <= error) and (c < cost or e < error) for c, e in points)
+        if not dominated:
+            front.append(i)
+    return sorted(front, key=lambda i: points[i][0])
+
+
+def fitted_order(l0: list[float], error: list[float]) -> float:
+    """Least-squares slope of log(error) against log(l0)."""
+    pairs = [(math.log(a), math.log(b)) for a, b in zip(l0, error) if a > 0 and b > 0 and math.isfinite(b)]
+    if len(pairs) < 2:
+        return math.nan
+    mean_x = sum(x for x, _ in pairs) / len(pairs)
+    mean_y = sum(y for _, y in pairs) / len(pairs)
+    denominator = sum((x - mean_x) ** 2 for x, _ in pairs)
+    return sum((x - mean_x) * (y - mean_y) for x, y in pairs) / denominator if denominator > 0 else math.nan
+
+
+def plot(rows: list[dict], out: str) -> dict:
+    import figures  # noqa: F401  (sets the shared style)
+    import matplotlib.pyplot as plt
+
+    done = [r for r in rows if r["status"] == "completed" and math.isfinite(r.get("front_rms", math.nan))]
+    methods = sorted({r["method"] for r in done})
+    orders = {}
+
+    fig, ax = plt.subplots(figsize=(7.0, 4.8))
+    everything = [(r["wall_seconds"], r["front_rms"]) for r in done]
+    best = set(pareto_front(everything))
+    for k, method in enumerate(methods):
+        mine = [i for i, r in enumerate(done) if r["method"] == method]
+        colour = figures.METHOD_COLOURS.get(method, f"C{k + 3}")
+        ax.scatter([done[i]["wall_seconds"] for i in mine], [done[i]["front_rms"] for i in mine], color=colour,
+                   label=method, s=28)
+    front = sorted(best, key=lambda i: done[i]["wall_seconds"])
+    if front:
+        ax.step([done[i]["wall_seconds"] for i in front], [done[i]["front_rms"] for i in front], "k--", where="post",
+                lw=1.0, label="Pareto front (all methods)")
+        ax.scatter([done[i]["wall_seconds"] for i in front], [done[i]["front_rms"] for i in front], s=90,
+                   facecolors="none", edgecolors="k")
+    ax.set_xscale("log")
+    ax.set_yscale("log")
+    ax.set_xlabel("wall time [s]")
+    ax.set_ylabel("front RMS error in Z (vs Martin & Moyce)")
+    ax.set_title("Accuracy for cost")
+    ax.legend()
+    fig.tight_layout()
+    fig.savefig(os.path.join(out, "pareto.png"))
+    plt.close(fig)
+
+    fig, (left, right) = plt.subplots(1, 2, figsize=(10.0, 4.4))
+    for k, method in enumerate(methods):
+        colour = figures.METHOD_COLOURS.get(method, f"C{k + 3}")
+        for rule in sorted({r["time_step_rule"] for r in done if r["method"] == method}):
+            mine = sorted([r for r in done if r["method"] == method and r["time_step_rule"] == rule
+                           and r["tolerance"] == next(x["tolerance"] for x in done if x["method"] == method)],
+                          key=lambda r: r["l0"])
+            l0 = [r["l0"] for r in mine]
+            self_error = [r["self_convergence"] for r in mine]
+            order = fitted_order(l0, self_error)
+            orders[f"{method}/{rule}"] = order
+            label = f"{method} / {rule}: order {order:.2f}" if math.isfinite(order) else f"{method} / {rule}"
+            right.loglog(l0, self_error, "o-", color=colour, label=label)
+            left.loglog(l0, [r["front_rms"] for r in mine], "o-", color=colour, label=f"{method} / {rule}")
+    left.set_xlabel("l0 [m]")
+    left.set_ylabel("front RMS in Z vs experiment")
+    left.set_title("Against Martin & Moyce")
+    right.set_xlabel("l0 [m]")
+    right.set_ylabel("RMS of Z - Z(finest)")
+    right.set_title("Self-convergence (fitted order)")
+    for axis in (left, right):
+        axis.legend()
+    fig.tight_layout()
+    fig.savefig(os.path.join(out, "convergence.png"))
+    plt.close(fig)
+    return orders
+
+
+def main(argv: list[str] | None = None) -> int:
+    parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser.add_argument("spec", help="sweep specification (JSON)")
+    parser.add_argument("--out", required=True, help="sweep folder")
+    parser.add_argument("--binary", default=DEFAULT_BINARY, help="mps_lab binary (default: build/mps_lab)")
+    parser.add_argument("--parallel", type=int, default=os.cpu_count() or 1, help="cases at a time")
+    parser.add_argument("--jobs-file", help="write the job list (one command per line) and stop")
+    parser.add_argument("--collect", action="store_true", help="only collect finished cases and plot")
+    parser.add_argument("--no-plots", action="store_true")
+    args = parser.parse_args(argv)
+    try:
+        spec = load_spec(args.spec)
+    except SpecError as error:
+        print(f"sweep.py: {error}", file=sys.stderr)
+        return 2
+    cases = cases_of(spec)
+    os.makedirs(os.path.join(args.out, "cases"), exist_ok=True)
+    parallel = max(1, args.parallel)
+    threads = max(1, (os.cpu_count() or 1) // parallel)
+    if args.jobs_file:
+        with open(args.jobs_file, "w") as handle:
+            for case in cases:
+                handle.write(command_of(case, spec, os.path.abspath(args.out), os.path.abspath(args.binary), threads) + "\n")
+        print(f"sweep: {len(cases)} jobs written to {args.jobs_file}")
+        return 0
+    if not args.collect:
+        if not os.access(args.binary, os.X_OK):
+            print(f"sweep.py: {args.binary}: no mps_lab binary (build it first: tools/build.sh)", file=sys.stderr)
+            return 2
+        run_cases(cases, spec, args.out, args.binary, parallel, threads)
+    rows = collect(cases, args.out)
+    write_csv(rows, os.path.join(args.out, "sweep.csv"))
+    finished = sum(r["status"] in FINISHED for r in rows)
+    print(f"sweep: {finished}/{len(rows)} cases finished -> {os.path.join(args.out, 'sweep.csv')}")
+    if not args.no_plots and any(r["status"] == "completed" for r in rows):
+        orders = plot(rows, args.out)
+        for key, order in orders.items():
+            print(f"sweep: fitted self-convergence order {key}: {order:.2f}")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
