@@ -1,0 +1,177 @@
+#include "methods/isph/isph_operators.hpp"
+
+#include <cmath>
+#include <cstddef>
+#include <stdexcept>
+
+#include <Eigen/LU>
+
+namespace mps_lab::isph {
+
+namespace {
+// det of the moment matrix below which the renormalisation is not applied. The matrix is the
+// identity for a particle with full support and has det ~0.3 on a flat free surface (half
+// support); it degenerates only for a particle with almost no neighbours (a lone splash
+// particle), whose corrected gradient would amplify noise: it keeps the difference form.
+constexpr double kMinimumMomentDeterminant = 0.1;
+}  // namespace
+
+double lattice_kernel_sum(const SphKernel& kernel, double spacing) {
+  const auto reach = static_cast<int>(std::ceil(kernel.support() / spacing));
+  double sum = 0.0;
+  for (int j = -reach; j <= reach; ++j) {
+    for (int i = -reach; i <= reach; ++i) {
+      sum += kernel.value(spacing * std::hypot(static_cast<double>(i), static_cast<double>(j)));
+    }
+  }
+  return sum;
+}
+
+void summation_density(const ParticleSet& particles, const NeighbourList& neighbours, const SphKernel& kernel,
+                       double mass, double rest_density, std::vector<double>& density) {
+  const auto n = static_cast<std::ptrdiff_t>(particles.size());
+  density.resize(particles.size());
+  const double self = kernel.value(0.0);
+#pragma omp parallel for schedule(static)
+  for (std::ptrdiff_t i = 0; i < n; ++i) {
+    if (particles.type[i] != ParticleType::Fluid) {
+      density[i] = particles.type[i] == ParticleType::Wall ? rest_density : 0.0;
+      continue;
+    }
+    double sum = self;
+    for (std::uint32_t k = neighbours.begin(i); k < neighbours.end(i); ++k) {
+      const std::uint32_t j = neighbours.indices[k];
+      if (particles.type[j] == ParticleType::Ghost) continue;
+      sum += kernel.value((particles.position[i] - particles.position[j]).norm());
+    }
+    density[i] = mass * sum;  // rho_i = sum_j m_j W_ij (Monaghan 1992, summation density)
+  }
+}
+
+void ppe_laplacian(const ParticleSet& particles, const NeighbourList& neighbours, const SphKernel& kernel, double mass,
+                   const std::vector<double>& density, double eta2, const std::vector<double>& values,
+                   std::vector<double>& out) {
+  const auto n = static_cast<std::ptrdiff_t>(particles.size());
+  out.assign(particles.size(), 0.0);
+#pragma omp parallel for schedule(static)
+  for (std::ptrdiff_t i = 0; i < n; ++i) {
+    if (particles.type[i] != ParticleType::Fluid) continue;
+    double sum = 0.0;
+    for (std::uint32_t k = neighbours.begin(i); k < neighbours.end(i); ++k) {
+      const std::uint32_t j = neighbours.indices[k];
+      if (particles.type[j] == ParticleType::Ghost) continue;
+      const double factor = laplacian_pair_factor(kernel, particles.position[i] - particles.position[j], eta2);
+      // Cummins & Rudman (1999) / Shao & Lo (2003): sum_j m 8/(rho_i+rho_j)^2 (p_i - p_j) F_ij
+      sum += ppe_pair_coefficient(mass, density[i], density[j], factor) * (values[j] - values[i]);
+    }
+    out[i] = sum;
+  }
+}
+
+void add_viscous_acceleration(const ParticleSet& particles, const NeighbourList& neighbours, const SphKernel& kernel,
+                              double mass, const std::vector<double>& density, double kinematic_viscosity, double eta2,
+                              std::vector<Vec2>& acceleration) {
+  const auto n = static_cast<std::ptrdiff_t>(particles.size());
+#pragma omp parallel for schedule(static)
+  for (std::ptrdiff_t i = 0; i < n; ++i) {
+    if (particles.type[i] != ParticleType::Fluid) continue;
+    Vec2 sum = Vec2::Zero();
+    for (std::uint32_t k = neighbours.begin(i); k < neighbours.end(i); ++k) {
+      const std::uint32_t j = neighbours.indices[k];
+      if (particles.type[j] == ParticleType::Ghost) continue;
+      const double factor = laplacian_pair_factor(kernel, particles.position[i] - particles.position[j], eta2);
+      const Vec2 u_j = particles.type[j] == ParticleType::Wall ? Vec2::Zero() : particles.velocity[j];
+      // Morris et al. (1997) viscous term, mu = rho nu: m (mu_i + mu_j)/(rho_i rho_j) F_ij (u_i - u_j)
+      sum += mass * (density[i] + density[j]) / (density[i] * density[j]) * factor * (particles.velocity[i] - u_j);
+    }
+    acceleration[i] += kinematic_viscosity * sum;
+  }
+}
+
+void velocity_divergence(const ParticleSet& particles, const NeighbourList& neighbours, const SphKernel& kernel,
+                         double mass, const std::vector<double>& density, const std::vector<Vec2>& velocity,
+                         std::vector<double>& out) {
+  const auto n = static_cast<std::ptrdiff_t>(particles.size());
+  out.assign(particles.size(), 0.0);
+#pragma omp parallel for schedule(static)
+  for (std::ptrdiff_t i = 0; i < n; ++i) {
+    if (particles.type[i] != ParticleType::Fluid) continue;
+    double sum = 0.0;
+    for (std::uint32_t k = neighbours.begin(i); k < neighbours.end(i); ++k) {
+      const std::uint32_t j = neighbours.indices[k];
+      if (particles.type[j] == ParticleType::Ghost) continue;
+      // div u_i = (1/rho_i) sum_j m (u_j - u_i) . grad W_ij (Monaghan 1992; Cummins & Rudman 1999)
+      sum += mass * (velocity[j] - velocity[i]).dot(kernel.gradient(particles.position[i] - particles.position[j]));
+    }
+    out[i] = sum / density[i];
+  }
+}
+
+void position_divergence(const ParticleSet& particles, const NeighbourList& neighbours, const SphKernel& kernel,
+                         double mass, const std::vector<double>& density, std::vector<double>& out) {
+  const auto n = static_cast<std::ptrdiff_t>(particles.size());
+  out.assign(particles.size(), 0.0);
+#pragma omp parallel for schedule(static)
+  for (std::ptrdiff_t i = 0; i < n; ++i) {
+    if (particles.type[i] != ParticleType::Fluid) continue;
+    double sum = 0.0;
+    for (std::uint32_t k = neighbours.begin(i); k < neighbours.end(i); ++k) {
+      const std::uint32_t j = neighbours.indices[k];
+      if (particles.type[j] == ParticleType::Ghost) continue;
+      const Vec2 r_ij = particles.position[i] - particles.position[j];
+      // div r_i = -sum_j (m/rho_j) r_ij . grad W_ij (Lee et al. 2008)
+      sum -= mass / density[j] * r_ij.dot(kernel.gradient(r_ij));
+    }
+    out[i] = sum;
+  }
+}
+
+PressureGradientForm pressure_gradient_form_from_name(const std::string& name) {
+  if (name == "symmetric") return PressureGradientForm::Symmetric;
+  if (name == "difference") return PressureGradientForm::Difference;
+  if (name == "corrected") return PressureGradientForm::Corrected;
+  if (name == "symmetric_corrected_surface") return PressureGradientForm::SymmetricCorrectedSurface;
+  throw std::invalid_argument("unknown pressure gradient form '" + name +
+                              "' (expected symmetric, difference, corrected or symmetric_corrected_surface)");
+}
+
+void pressure_acceleration(const ParticleSet& particles, const NeighbourList& neighbours, const SphKernel& kernel,
+                           double mass, const std::vector<double>& density, const std::vector<double>& free_surface,
+                           PressureGradientForm form, std::vector<Vec2>& acceleration) {
+  const auto n = static_cast<std::ptrdiff_t>(particles.size());
+  acceleration.resize(particles.size());
+#pragma omp parallel for schedule(static)
+  for (std::ptrdiff_t i = 0; i < n; ++i) {
+    acceleration[i] = Vec2::Zero();
+    if (particles.type[i] != ParticleType::Fluid) continue;
+    const bool corrected = form == PressureGradientForm::Corrected ||
+                           (form == PressureGradientForm::SymmetricCorrectedSurface && free_surface[i] != 0.0);
+    const bool symmetric = !corrected && form != PressureGradientForm::Difference;
+    const double p_i = particles.pressure[i];
+    const double rho_i = density[i];
+    Vec2 sum = Vec2::Zero();                           // grad p_i / rho_i, m/s^2
+    Eigen::Matrix2d moment = Eigen::Matrix2d::Zero();  // sum_j V_j grad W_ij (x_j - x_i)^T
+    for (std::uint32_t k = neighbours.begin(i); k < neighbours.end(i); ++k) {
+      const std::uint32_t j = neighbours.indices[k];
+      if (particles.type[j] == ParticleType::Ghost) continue;
+      const Vec2 r_ij = particles.position[i] - particles.position[j];
+      const Vec2 gradient = kernel.gradient(r_ij);
+      const double p_j = particles.pressure[j];
+      if (symmetric) {
+        // Monaghan (1992), momentum-conserving: sum_j m (p_i/rho_i^2 + p_j/rho_j^2) grad W_ij
+        sum += mass * (p_i / (rho_i * rho_i) + p_j / (density[j] * density[j])) * gradient;
+      } else {
+        // difference form: (1/rho_i) sum_j (m/rho_j) (p_j - p_i) grad W_ij, zero for constant p
+        sum += mass / (rho_i * density[j]) * (p_j - p_i) * gradient;
+        moment -= mass / density[j] * gradient * r_ij.transpose();
+      }
+    }
+    if (corrected && std::fabs(moment.determinant()) > kMinimumMomentDeterminant) {
+      // Bonet & Lok (1999) renormalisation: grad p_i = L_i sum_j V_j (p_j - p_i) grad W_ij, L_i = moment^-1
+      sum = moment.inverse() * sum;
+    }
+    acceleration[i] = -sum;
+  }
+}
+
+}  // namespace mps_lab::isph

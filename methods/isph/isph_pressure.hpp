@@ -1,0 +1,87 @@
+#pragma once
+// The pressure Poisson equation of the ISPH projection, fluid and walls in one linear system.
+//
+// Unknowns: the pressures of the fluid particles that are not on the free surface, and of
+// every wall particle with at least one non-ghost fluid particle within the kernel support.
+// Free-surface fluid particles have p = 0 (Dirichlet); other wall particles carry no pressure.
+//
+// Fluid row i (Cummins & Rudman 1999; Shao & Lo 2003):
+//   <div(grad p / rho)>_i = sum_j a_ij (p_j - p_i) = S_i,
+//   a_ij = -m 8/(rho_i + rho_j)^2 r_ij.grad W_ij / (r_ij^2 + eta^2)   (isph_operators.hpp),
+// over every non-ghost neighbour j (fluid and wall), S_i the source term of the method.
+// Wall row w (Adami, Hu & Adams 2012, eq. 27, with a fixed wall, a_w = 0):
+//   p_w sum_f W_wf - sum_f p_f W_wf = g . sum_f rho_f (x_w - x_f) W_wf,
+// over the non-ghost fluid neighbours f: the wall pressure is the kernel-weighted average of
+// the fluid pressure around it plus the hydrostatic head between them, which is the pressure
+// a wall must carry for the fluid next to it to have no wall-normal acceleration.
+//
+// Every row is scaled to pascals (fluid rows by rho0 l0^2, wall rows by 1 / sum_f W_wf), so the
+// relative residual ||b - A p|| / ||b|| weighs all rows alike. The wall rows make A
+// non-symmetric: BiCGSTAB (Eigen) with a diagonal or incomplete-LU preconditioner.
+#include <string>
+#include <vector>
+
+#include <Eigen/Sparse>
+
+#include "core/neighbour_search.hpp"
+#include "core/particles.hpp"
+#include "core/sph_kernels.hpp"
+
+namespace mps_lab::isph {
+
+enum class Preconditioner { Diagonal, IncompleteLut };
+Preconditioner preconditioner_from_name(const std::string& name);  // "diagonal" | "incomplete_lut"
+
+struct PressureSolveSettings {
+  double rest_density = 1000.0;     // rho0, kg/m^3
+  double spacing = 0.025;           // l0, m (row scaling only)
+  double mass = 0.625;              // m, kg/m (per unit depth)
+  double eta2 = 0.0;                // eta^2 of the Laplacian, m^2
+  Vec2 gravity = Vec2(0.0, -9.81);  // m/s^2
+  double tolerance = 1.0e-8;        // relative residual ||b - A p|| / ||b||
+  long long max_iterations = 1000;  // BiCGSTAB iterations (all restarts together)
+  bool warm_start = true;           // start from particles.pressure
+  Preconditioner preconditioner = Preconditioner::Diagonal;
+};
+
+struct PressureSolveResult {
+  long long iterations = 0;
+  double residual = 0.0;  // achieved ||b - A p|| / ||b||, recomputed after the solve
+  bool converged = true;
+  std::size_t fluid_unknowns = 0;
+  std::size_t wall_unknowns = 0;
+  std::size_t surface = 0;  // fluid particles held at p = 0
+  std::size_t ungrounded_groups = 0;
+};
+
+class PressurePoissonSolver {
+ public:
+  // Assembles and solves; writes particles.pressure of every fluid and wall particle (0 for
+  // surface fluid, for walls without fluid neighbours and for ghosts). `density` as in
+  // isph_operators.hpp; `free_surface[i]` != 0 marks Dirichlet fluid particles; `source[i]`
+  // is S_i of fluid row i, 1/s^2.
+  PressureSolveResult solve(ParticleSet& particles, const NeighbourList& neighbours, const SphKernel& kernel,
+                            const std::vector<double>& density, const std::vector<double>& free_surface,
+                            const std::vector<double>& source, const PressureSolveSettings& settings);
+
+  // The last assembled system and its unknowns (for tests).
+  const Eigen::SparseMatrix<double, Eigen::RowMajor>& matrix() const { return matrix_; }
+  const Eigen::VectorXd& rhs() const { return rhs_; }
+  const std::vector<int>& row_of_particle() const { return row_of_; }  // -1: not an unknown
+  const std::vector<int>& particle_of_row() const { return particle_of_; }
+
+ private:
+  void assemble(const ParticleSet& particles, const NeighbourList& neighbours, const SphKernel& kernel,
+                const std::vector<double>& density, const std::vector<double>& source,
+                const PressureSolveSettings& settings, std::vector<char>& grounded);
+
+  std::vector<int> row_of_;
+  std::vector<int> particle_of_;
+  std::vector<Eigen::Triplet<double>> triplets_;
+  Eigen::SparseMatrix<double, Eigen::RowMajor> matrix_;
+  Eigen::VectorXd rhs_;
+  Eigen::VectorXd guess_;
+  Eigen::VectorXd solution_;
+};
+
+}  // namespace mps_lab::isph
