@@ -1,0 +1,397 @@
+// Divergence-Free SPH (Bender & Koschier 2015, 2017: [BK17]) with the boundary particles of
+// Akinci et al. 2012, on the shared core. One step, in the order of the authors' loop
+// (Algorithm 1 of [BK17], started at the neighbour search):
+//   1. neighbourhoods at x^n (cell list, radius = kernel support);  [after_neighbour_search]
+//   2. densities rho_i and factors alpha_i;
+//   3. divergence-free solver (Algorithm 2, warm-started): D rho/Dt -> 0 on v^n;
+//   4. non-pressure forces: gravity, viscosity (Morris et al. 1997; skipped when nu = 0);
+//   5. time step (CFL, chosen by time_step() before the step: the driver's interface);
+//   6. predicted velocities v* = v^n + dt a_np;                      [after_explicit_velocity]
+//   7. constant-density solver (Algorithm 3, warm-started): rho* -> rho0;
+//      pressure p = (kappa + kappa^v) rho, Pa;
+//   8. advection x^{n+1} = x^n + dt v^{n+1};                          [after_correction]
+//      escaped fluid particles become ghosts.
+// Bracketed: the wall-treatment hooks (all off by default for dfsph). Decisions where the
+// papers leave a choice are listed in docs/methods/dfsph.md.
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <memory>
+#include <stdexcept>
+#include <string>
+
+#include "core/error.hpp"
+#include "core/geometry.hpp"
+#include "core/method.hpp"
+#include "core/scene.hpp"
+#include "methods/dfsph/dfsph_operators.hpp"
+#include "methods/dfsph/dfsph_solvers.hpp"
+
+namespace mps_lab::dfsph {
+namespace {
+
+SolverSettings solver_settings(const ParameterValues& p, const std::string& prefix, double warm_start_fraction) {
+  SolverSettings settings;
+  settings.tolerance = p.number(prefix + "_tolerance");
+  settings.min_iterations = p.integer(prefix + "_min_iterations");
+  settings.max_iterations = p.integer(prefix + "_max_iterations");
+  settings.warm_start_fraction = warm_start_fraction;
+  return settings;
+}
+
+// Running statistics of one solver over the run, for run.json.
+struct SolverTotals {
+  long long solves = 0;
+  long long iterations = 0;
+  long long max_iterations = 0;
+  long long not_converged = 0;
+  double error_sum = 0.0;
+
+  void add(const SolverOutcome& outcome) {
+    ++solves;
+    iterations += outcome.iterations;
+    max_iterations = std::max(max_iterations, outcome.iterations);
+    not_converged += outcome.converged ? 0 : 1;
+    error_sum += outcome.error;
+  }
+  nlohmann::json to_json() const {
+    const double count = std::max(1.0, static_cast<double>(solves));
+    return {{"solves", solves},
+            {"mean_iterations", static_cast<double>(iterations) / count},
+            {"max_iterations", max_iterations},
+            {"not_converged", not_converged},
+            {"mean_error", error_sum / count}};
+  }
+};
+
+class DfsphMethod final : public Method {
+ public:
+  explicit DfsphMethod(const MethodSetup& setup)
+      : scene_(setup.scene),
+        walls_(setup.wall_treatments, setup.scene),
+        kernel_(sph_kernel_from_name(setup.parameters.string("kernel")),
+                setup.parameters.number("kernel_support") * setup.scene.particle_spacing) {
+    const auto& p = setup.parameters;
+    const double l0 = scene_.particle_spacing;
+    rest_density_ = scene_.physics.density;
+    particle_mass_ = rest_density_ * l0 * l0;  // 2-D: kg per metre of depth
+    cfl_rule_ = p.string("time_step_rule") == "cfl";
+    cfl_number_ = p.number("cfl_number");
+    min_time_step_ = p.number("min_time_step");
+    max_time_step_ = p.number("max_time_step");
+    const double warm_start_fraction = p.number("warm_start_fraction");
+    density_settings_ = solver_settings(p, "density", warm_start_fraction);
+    divergence_settings_ = solver_settings(p, "divergence", warm_start_fraction);
+    divergence_enabled_ = p.boolean("divergence_solver");
+    full_neighbour_count_ = lattice_neighbour_count(kernel_.support(), l0);
+    divergence_min_neighbours_ = static_cast<std::uint32_t>(
+        std::ceil(p.number("divergence_neighbour_fraction") * static_cast<double>(full_neighbour_count_) - 1e-9));
+    boundary_wall_layers_ = static_cast<int>(p.integer("boundary_wall_layers"));
+    boundary_volume_ = boundary_volume_from_name(p.string("boundary_volume"));
+    fail_on_nonconvergence_ = p.boolean("fail_on_nonconvergence");
+
+    const std::string block = "methods.dfsph.";
+    if (min_time_step_ > max_time_step_) {
+      throw_input_error(scene_.source, block + "min_time_step",
+                        "got " + std::to_string(min_time_step_) + ", expected at most max_time_step (" +
+                            std::to_string(max_time_step_) + ")");
+    }
+    for (const auto* prefix : {"density", "divergence"}) {
+      const SolverSettings& s = std::string(prefix) == "density" ? density_settings_ : divergence_settings_;
+      if (s.min_iterations > s.max_iterations) {
+        throw_input_error(scene_.source, block + prefix + "_min_iterations",
+                          "got " + std::to_string(s.min_iterations) + ", expected at most " + prefix +
+                              "_max_iterations (" + std::to_string(s.max_iterations) + ")");
+      }
+    }
+  }
+
+  void initialise(ParticleSet& particles) override {
+    const std::size_t n = particles.size();
+    search(particles);
+    const double l0 = scene_.particle_spacing;
+    compute_boundary_masses(particles, neighbours_, cache_, boundary_wall_layers_, rest_density_, boundary_volume_,
+                            l0 * l0, boundary_mass_);
+    auto& volume = particles.field("boundary_volume");
+    for (std::size_t i = 0; i < n; ++i) volume[i] = boundary_mass_[i] / rest_density_;
+    density_stiffness_.assign(n, 0.0);
+    divergence_stiffness_.assign(n, 0.0);
+    acceleration_.assign(n, Vec2::Zero());
+    for (std::size_t i = 0; i < n; ++i) {
+      if (particles.type[i] == ParticleType::Fluid) acceleration_[i] = scene_.physics.gravity;
+    }
+    last_time_step_ = scene_.time.time_step;
+    compute_densities(particles, system(), particles.field("density"));  // for the frame at t = 0
+  }
+
+  // CFL rule ([BK17], Algorithm 1: dt <= 0.4 d / |v_max|, d = l0 the particle diameter),
+  // with v_max estimated as in the authors' code from v + dt a over the fluid: v^n and the
+  // non-pressure acceleration of the last step (gravity before the first), clamped to
+  // [min_time_step, max_time_step]; the last one or two steps are evened out so that the
+  // run ends on time.end_time.
+  double time_step(const ParticleSet& particles) const override {
+    if (!cfl_rule_) return scene_.time.time_step;
+    double max_speed2 = 0.0;
+    for (std::size_t i = 0; i < particles.size(); ++i) {
+      if (particles.type[i] != ParticleType::Fluid) continue;
+      max_speed2 = std::max(max_speed2, (particles.velocity[i] + last_time_step_ * acceleration_[i]).squaredNorm());
+    }
+    const double max_speed = std::sqrt(max_speed2);
+    double dt = max_speed > 0.0 ? cfl_number_ * scene_.particle_spacing / max_speed : max_time_step_;
+    dt = std::clamp(dt, min_time_step_, max_time_step_);
+    const double remaining = scene_.time.end_time - elapsed_;
+    if (remaining > 1e-6 * dt) {
+      if (remaining <= dt) return remaining;
+      if (remaining < 2.0 * dt) return 0.5 * remaining;
+    }
+    return dt;
+  }
+
+  StepReport step(ParticleSet& particles, double dt) override {
+    const std::size_t n = particles.size();
+    const auto count = static_cast<std::ptrdiff_t>(n);
+    WallContext context{particles, &neighbours_, dt, scene_};
+
+    // 1. neighbourhoods
+    search(particles);
+    walls_.after_neighbour_search(context);
+    const SphSystem sph = system();
+
+    // 2. densities and factors alpha_i
+    auto& density = particles.field("density");
+    auto& alpha = particles.field("dfsph_factor");
+    compute_densities(particles, sph, density);
+    compute_dfsph_factors(particles, sph, density, alpha);
+    const double compression = mean_compression(particles, density);
+
+    // 3. divergence-free solver (Algorithm 2)
+    SolverOutcome divergence;
+    if (divergence_enabled_) {
+      divergence = correct_divergence_error(particles, sph, density, alpha, dt, divergence_settings_,
+                                            divergence_min_neighbours_, divergence_stiffness_, workspace_);
+      divergence_totals_.add(divergence);
+      check_convergence(divergence, divergence_settings_, "divergence");
+    } else {
+      std::fill(divergence_stiffness_.begin(), divergence_stiffness_.end(), 0.0);
+    }
+
+    // 4. non-pressure forces
+    const Vec2 gravity = scene_.physics.gravity;
+#pragma omp parallel for schedule(static) if (count >= kThreadedLoopMinimum)
+    for (std::ptrdiff_t i = 0; i < count; ++i) {
+      acceleration_[i] = particles.type[i] == ParticleType::Fluid ? gravity : Vec2::Zero();
+    }
+    if (scene_.physics.kinematic_viscosity > 0.0) {
+      add_viscous_acceleration(particles, sph, density, scene_.physics.kinematic_viscosity, kernel_.support(),
+                               acceleration_);
+    }
+
+    // 5. the time step dt was chosen by time_step(); 6. predicted velocities
+#pragma omp parallel for schedule(static) if (count >= kThreadedLoopMinimum)
+    for (std::ptrdiff_t i = 0; i < count; ++i) {
+      if (particles.type[i] == ParticleType::Fluid) particles.velocity[i] += dt * acceleration_[i];
+    }
+    walls_.after_explicit_velocity(context);
+
+    // 7. constant-density solver (Algorithm 3); the pressure it applied, in Pa
+    const SolverOutcome pressure =
+        correct_density_error(particles, sph, density, alpha, dt, density_settings_, density_stiffness_, workspace_);
+    density_totals_.add(pressure);
+    check_convergence(pressure, density_settings_, "density");
+    // Both solvers applied the pressure-force operator at x^n during this step, so the
+    // momentum the step gave is that of p = (kappa + kappa^v) rho (docs/methods/dfsph.md).
+    auto& divergence_pressure = particles.field("divergence_pressure");
+#pragma omp parallel for schedule(static) if (count >= kThreadedLoopMinimum)
+    for (std::ptrdiff_t i = 0; i < count; ++i) {
+      const bool fluid = particles.type[i] == ParticleType::Fluid;
+      divergence_pressure[i] = fluid ? divergence_stiffness_[i] * density[i] : 0.0;
+      if (fluid) particles.pressure[i] = density_stiffness_[i] * density[i] + divergence_pressure[i];
+    }
+    compute_boundary_pressures(particles, sph, density, scene_.particle_spacing);
+
+    // 8. advection
+#pragma omp parallel for schedule(static) if (count >= kThreadedLoopMinimum)
+    for (std::ptrdiff_t i = 0; i < count; ++i) {
+      if (particles.type[i] == ParticleType::Fluid) particles.position[i] += dt * particles.velocity[i];
+    }
+    walls_.after_correction(context);
+    ghosts_ += mark_escaped_as_ghosts(particles, scene_);
+
+    advance_clock(dt);
+    StepReport report;
+    report.solver_iterations = pressure.iterations;
+    report.solver_residual = pressure.error;
+    report.extra = {static_cast<double>(divergence.iterations), divergence.error,
+                    static_cast<double>(pressure.iterations), pressure.error, compression};
+    return report;
+  }
+
+  nlohmann::json summary() const override {
+    const double l0 = scene_.particle_spacing;
+    double volume_min = std::numeric_limits<double>::infinity(), volume_max = 0.0;
+    std::size_t boundary_particles = 0;
+    for (double psi : boundary_mass_) {
+      if (psi <= 0.0) continue;
+      ++boundary_particles;
+      volume_min = std::min(volume_min, psi / rest_density_);
+      volume_max = std::max(volume_max, psi / rest_density_);
+    }
+    return {{"kernel", kernel_.kind() == SphKernelKind::CubicSpline ? "cubic_spline" : "wendland_c2"},
+            {"kernel_support_over_l0", kernel_.support() / l0},
+            {"particle_mass", particle_mass_},
+            {"lattice_density_over_rho0", particle_mass_ * lattice_kernel_sum(kernel_, l0) / rest_density_},
+            {"lattice_neighbours", full_neighbour_count_},
+            {"divergence_min_neighbours", divergence_min_neighbours_},
+            {"boundary_particles", boundary_particles},
+            {"boundary_volume", boundary_volume_ == BoundaryVolume::Akinci ? "akinci" : "lattice"},
+            {"boundary_volume_over_l0_squared",
+             {{"min", boundary_particles > 0 ? volume_min / (l0 * l0) : 0.0}, {"max", volume_max / (l0 * l0)}}},
+            {"time_step", {{"rule", cfl_rule_ ? "cfl" : "fixed"},
+                           {"min", steps_ > 0 ? dt_min_ : 0.0},
+                           {"max", dt_max_},
+                           {"mean", steps_ > 0 ? elapsed_ / static_cast<double>(steps_) : 0.0}}},
+            {"density_solver", density_totals_.to_json()},
+            {"divergence_solver", divergence_totals_.to_json()},
+            {"wall_treatments", walls_.names()},
+            {"ghosts_created", ghosts_}};
+  }
+
+ private:
+  SphSystem system() const { return {neighbours_, cache_, boundary_mass_, particle_mass_, rest_density_}; }
+
+  void search(const ParticleSet& particles) {
+    cells_.build(particles.position, particles.type, kernel_.support());
+    cells_.find_neighbours(particles.position, particles.type, kernel_.support(), neighbours_);
+    compute_kernel_cache(particles, neighbours_, kernel_, cache_);
+  }
+
+  // Mean max(rho_i - rho0, 0) / rho0 over the fluid at the start of the step: the compression
+  // the last step actually left (the solver's error is a prediction).
+  double mean_compression(const ParticleSet& particles, const std::vector<double>& density) const {
+    double sum = 0.0;
+    std::size_t fluid = 0;
+    for (std::size_t i = 0; i < particles.size(); ++i) {
+      if (particles.type[i] != ParticleType::Fluid) continue;
+      sum += std::max(density[i] - rest_density_, 0.0) / rest_density_;
+      ++fluid;
+    }
+    return fluid > 0 ? sum / static_cast<double>(fluid) : 0.0;
+  }
+
+  void check_convergence(const SolverOutcome& outcome, const SolverSettings& settings, const char* name) const {
+    if (outcome.converged || !fail_on_nonconvergence_) return;
+    throw std::runtime_error(std::string("DFSPH ") + name + " solver did not reach its tolerance " +
+                             std::to_string(settings.tolerance) + " in " + std::to_string(outcome.iterations) +
+                             " iterations (error " + std::to_string(outcome.error) + ")");
+  }
+
+  void advance_clock(double dt) {  // Kahan summation, as the driver's clock
+    const double increment = dt - clock_compensation_;
+    const double sum = elapsed_ + increment;
+    clock_compensation_ = (sum - elapsed_) - increment;
+    elapsed_ = sum;
+    last_time_step_ = dt;
+    dt_min_ = std::min(dt_min_, dt);
+    dt_max_ = std::max(dt_max_, dt);
+    ++steps_;
+  }
+
+  const Scene& scene_;
+  WallTreatmentSet walls_;
+  SphKernel kernel_;
+  double rest_density_ = 1000.0;   // kg/m^3
+  double particle_mass_ = 0.0;     // kg/m
+  bool cfl_rule_ = true;
+  double cfl_number_ = 0.4;
+  double min_time_step_ = 0.0, max_time_step_ = 0.0;  // s
+  SolverSettings density_settings_, divergence_settings_;
+  bool divergence_enabled_ = true;
+  std::uint32_t full_neighbour_count_ = 0;
+  std::uint32_t divergence_min_neighbours_ = 0;
+  int boundary_wall_layers_ = 3;
+  BoundaryVolume boundary_volume_ = BoundaryVolume::Akinci;
+  bool fail_on_nonconvergence_ = false;
+
+  CellList cells_;
+  NeighbourList neighbours_;
+  KernelCache cache_;
+  std::vector<double> boundary_mass_;         // Psi_b, kg/m
+  std::vector<double> density_stiffness_;     // kappa_i of the density solver, m^2/s^2
+  std::vector<double> divergence_stiffness_;  // kappa^v_i of the divergence solver, m^2/s^2
+  std::vector<Vec2> acceleration_;            // non-pressure acceleration of the last step, m/s^2
+  SolverWorkspace workspace_;
+
+  double elapsed_ = 0.0, clock_compensation_ = 0.0;  // s, simulated so far
+  double last_time_step_ = 0.0;                      // s
+  double dt_min_ = std::numeric_limits<double>::infinity(), dt_max_ = 0.0;
+  long long steps_ = 0;
+  SolverTotals density_totals_, divergence_totals_;
+  std::size_t ghosts_ = 0;
+};
+
+}  // namespace
+}  // namespace mps_lab::dfsph
+
+void mps_lab_register_method_dfsph(mps_lab::MethodRegistry& registry) {
+  using namespace mps_lab;
+  MethodInfo info;
+  info.name = "dfsph";
+  info.description =
+      "Divergence-Free SPH (Bender & Koschier 2015/2017): divergence and constant-density solvers, Akinci boundaries";
+  info.parameters = {
+      string_parameter("kernel", "cubic_spline", "SPH kernel (BK17: cubic spline)").one_of({"cubic_spline", "wendland_c2"}),
+      number_parameter("kernel_support", 2.0, "l0",
+                       "kernel support radius (where W = 0): BK17/SPlisHSPlasH 4 r = 2 l0, i.e. h = l0")
+          .above(1.0)
+          .at_most(4.0),
+      string_parameter("time_step_rule", "cfl", "\"cfl\": dt = cfl_number l0 / v_max (BK17); \"fixed\": time.time_step")
+          .one_of({"cfl", "fixed"}),
+      number_parameter("cfl_number", 0.4, "", "CFL factor with the particle diameter l0 (BK17: 0.4)").above(0.0).at_most(1.0),
+      number_parameter("min_time_step", 1.0e-4, "s", "lower bound of the CFL step (SPlisHSPlasH default)").above(0.0),
+      number_parameter("max_time_step", 5.0e-3, "s", "upper bound of the CFL step (SPlisHSPlasH default)").above(0.0),
+      number_parameter("density_tolerance", 1.0e-4, "",
+                       "density solver stops at mean max(rho* - rho0, 0)/rho0 below this (BK17: 0.01 %)")
+          .above(0.0)
+          .below(1.0),
+      integer_parameter("density_min_iterations", 2, "density solver: at least this many iterations (BK17: 2)")
+          .at_least(0)
+          .at_most(100000),
+      integer_parameter("density_max_iterations", 100, "density solver iteration cap").at_least(1).at_most(100000),
+      boolean_parameter("divergence_solver", true, "run the divergence-free solver (false: constant-density solver only)"),
+      number_parameter("divergence_tolerance", 1.0e-3, "",
+                       "divergence solver stops at dt mean max(D rho/Dt, 0)/rho0 below this (BK17: 0.1 %)")
+          .above(0.0)
+          .below(1.0),
+      integer_parameter("divergence_min_iterations", 1, "divergence solver: at least this many iterations (BK17: 1)")
+          .at_least(0)
+          .at_most(100000),
+      integer_parameter("divergence_max_iterations", 100, "divergence solver iteration cap").at_least(1).at_most(100000),
+      number_parameter("divergence_neighbour_fraction", 0.875, "",
+                       "no divergence correction for particles with fewer neighbours than this fraction of the full "
+                       "lattice count (SPlisHSPlasH 2-D: 7 of 8)")
+          .at_least(0.0)
+          .at_most(1.0),
+      number_parameter("warm_start_fraction", 0.5, "",
+                       "share of the last step's stiffness both solvers start from (SPlisHSPlasH 0.5; BK17 text: the sum)")
+          .at_least(0.0)
+          .at_most(1.0),
+      integer_parameter("boundary_wall_layers", 3,
+                        "wall layers (from the fluid) that are Akinci boundary particles; outer layers are ignored")
+          .at_least(1)
+          .at_most(10),
+      string_parameter("boundary_volume", "lattice",
+                       "volume of a boundary particle: \"akinci\" V_b = 1/sum_k W_bk (Akinci 2012), \"lattice\" V_b = l0^2")
+          .one_of({"akinci", "lattice"}),
+      boolean_parameter("fail_on_nonconvergence", false,
+                        "stop the run when a solver reaches its iteration cap above its tolerance (else count it)"),
+  };
+  info.fields = {{"density", "kg/m^3", "SPH density rho_i at the start of the step (fluid; 0 elsewhere)", true},
+                 {"divergence_pressure", "Pa", "kappa^v rho: the divergence-free solver's part of `pressure`", true},
+                 {"boundary_volume", "m^2", "Akinci volume V_b = 1 / sum_k W_bk of the boundary particles", true},
+                 {"dfsph_factor", "m^5/kg", "alpha_i of BK17 eq. (11)", false}};
+  info.series_columns = {"divergence_iterations", "divergence_error", "density_iterations", "density_error",
+                         "compression"};
+  info.default_wall_treatments = {};
+  info.create = [](const MethodSetup& setup) { return std::make_unique<dfsph::DfsphMethod>(setup); };
+  registry.add(std::move(info));
+}

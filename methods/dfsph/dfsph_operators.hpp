@@ -1,0 +1,126 @@
+#pragma once
+// The SPH operators of Divergence-Free SPH, as free functions over a ParticleSet and the
+// cached neighbour list. 2-D; masses are per metre of depth (m = rho0 l0^2, kg/m), so that
+// densities come out in kg/m^3 and pressures in Pa.
+//
+//   [BK17]  J. Bender, D. Koschier, "Divergence-Free SPH for Incompressible and Viscous
+//           Fluids", IEEE TVCG 23(3), 1193-1206 (2017); SCA 2015 for the first version.
+//           Equation numbers are the TVCG paper's, as the authors' SPlisHSPlasH cites them.
+//   [AIA12] N. Akinci, M. Ihmsen, G. Akinci, B. Solenthaler, M. Teschner, "Versatile
+//           rigid-fluid coupling for incompressible SPH", ACM TOG 31(4) 62 (SIGGRAPH 2012).
+//   [MFZ97] J. P. Morris, P. J. Fox, Y. Zhu, "Modeling low Reynolds number incompressible
+//           flows using SPH", J. Comput. Phys. 136, 214-226 (1997).
+//
+// Roles. A particle is *fluid* (type Fluid), a *boundary* particle (type Wall with a
+// boundary mass Psi_b = rho0 V_b > 0, [AIA12]) or inert (ghosts, wall layers the method does
+// not use): inert particles are skipped in every sum. Boundary particles never move
+// (v_b = 0), carry no unknown and take the pressure of the fluid particle they act on
+// (pressure mirroring, as in the authors' implementation).
+#include <cstddef>
+#include <string>
+#include <vector>
+
+#include "core/neighbour_search.hpp"
+#include "core/particles.hpp"
+#include "core/sph_kernels.hpp"
+
+namespace mps_lab::dfsph {
+
+// Particle loops shorter than this run on one thread. At the spec's 444 particles a loop is
+// ~20 us of work, and a solver iteration is three loops with a barrier each; when the two
+// cores are shared with other jobs a barrier can wait a whole scheduler slice (measured on
+// a loaded machine: the dam break took 3.2 s on 2 threads, 0.2 s on 1). Results do not
+// depend on the thread count either way (no reductions across threads).
+constexpr std::ptrdiff_t kThreadedLoopMinimum = 1024;
+
+// W and grad_i W(x_i - x_j) for every entry of the neighbour list (CSR-aligned), evaluated
+// once per step at the positions of the search and reused by every operator and solver
+// iteration of the step.
+struct KernelCache {
+  std::vector<double> value;     // W_ij, 1/m^2
+  std::vector<Vec2> gradient;    // grad_i W_ij, 1/m^3
+  double self_value = 0.0;       // W(0), 1/m^2
+};
+
+// Everything an operator reads besides the particles: one bundle per step.
+struct SphSystem {
+  const NeighbourList& neighbours;
+  const KernelCache& kernel;
+  const std::vector<double>& boundary_mass;  // Psi_b = rho0 V_b (kg/m) for boundary particles, else 0
+  double particle_mass;                      // m = rho0 l0^2, kg/m
+  double rest_density;                       // rho0, kg/m^3
+};
+
+inline bool is_boundary(const ParticleSet& particles, const SphSystem& system, std::size_t j) {
+  return particles.type[j] == ParticleType::Wall && system.boundary_mass[j] > 0.0;
+}
+
+void compute_kernel_cache(const ParticleSet& particles, const NeighbourList& neighbours, const SphKernel& kernel,
+                          KernelCache& cache);
+
+// How the volume V_b of a boundary particle is obtained.
+enum class BoundaryVolume {
+  Akinci,   // [AIA12]: V_b = 1 / sum_k W_bk over the boundary particles k (b included)
+  Lattice,  // V_b = l0^2: the area a wall particle represents on the lattice, = m / rho0 of a fluid particle
+};
+BoundaryVolume boundary_volume_from_name(const std::string& name);  // "akinci" | "lattice"
+
+// Psi_b = rho0 V_b ([AIA12]) for the wall particles of layers 1..`wall_layers` (layer 1
+// faces the fluid), 0 for every other particle. `lattice_volume` (m^2) is V_b of the Lattice
+// rule (l0^2).
+void compute_boundary_masses(const ParticleSet& particles, const NeighbourList& neighbours,
+                             const KernelCache& kernel, int wall_layers, double rest_density,
+                             BoundaryVolume rule, double lattice_volume, std::vector<double>& boundary_mass);
+
+// The SPH density sum with [AIA12]'s boundary term: rho_i = sum_j m W_ij (i included) + sum_b Psi_b W_ib.
+// Fluid particles only; others get 0.
+void compute_densities(const ParticleSet& particles, const SphSystem& system, std::vector<double>& density);
+
+// [BK17] eq. (11): alpha_i = rho_i / (|sum_j m grad W_ij + sum_b Psi_b grad W_ib|^2 + sum_j |m grad W_ij|^2)
+// (boundary particles do not move, so they enter only the first term). m^5/kg in 2-D; 0 for a
+// particle without neighbours and for non-fluid particles.
+void compute_dfsph_factors(const ParticleSet& particles, const SphSystem& system, const std::vector<double>& density,
+                           std::vector<double>& alpha);
+
+// [BK17] eq. (9): D rho_i / Dt = sum_j m (v_i - v_j) . grad W_ij + sum_b Psi_b (v_i - v_b) . grad W_ib,
+// v_b = 0. kg/(m^3 s); fluid particles only, others 0.
+void compute_density_change_rate(const ParticleSet& particles, const SphSystem& system, std::vector<double>& rate);
+
+// The velocity change of the DFSPH pressure forces ([BK17] eqs. (7)-(8): the force along
+// -grad rho_i and its reactions on the neighbours, summed over the pairs; Algorithms 2, 3):
+//   v_i <- v_i - dt [ sum_j m (s_i + s_j) grad W_ij + sum_b Psi_b s_i grad W_ib ],
+// with s_i = kappa_i / rho_i = p_i / rho_i^2 (the symmetric SPH pressure gradient; the
+// boundary term mirrors p_b = p_i and acts once, as in [AIA12] and the authors' code).
+// Reads only `stiffness_over_density`, writes only the fluid velocities: a Jacobi update.
+void apply_pressure_velocity_change(ParticleSet& particles, const SphSystem& system,
+                                    const std::vector<double>& stiffness_over_density, double dt);
+
+// Laminar viscosity of [MFZ97] eq. (8) with mu = rho nu:
+//   a_i += sum_j m_j nu (rho_i + rho_j) / (rho_i rho_j) (r_ij . grad W_ij) / (|r_ij|^2 + eta^2) (v_i - v_j),
+// r_ij = x_i - x_j, eta = 0.1 h (h = support / 2). Boundary neighbours count with mass
+// Psi_b, density rho0 and velocity 0 (no-slip walls).
+void add_viscous_acceleration(const ParticleSet& particles, const SphSystem& system,
+                              const std::vector<double>& density, double kinematic_viscosity, double support,
+                              std::vector<Vec2>& acceleration);
+
+// Pressure of the boundary particles, for output: the pressure force the fluid exerts on
+// boundary particle b (the reaction to the boundary term of apply_pressure_velocity_change,
+// with the fluid pressures p_f = particles.pressure of this step) divided by the wall face
+// a particle carries, `face_length` = l0 (per metre of depth):
+//   p_b = | sum_f m Psi_b (p_f / rho_f^2) grad_f W_fb | / l0.
+// On a flat wall this is the wall pressure; summed over a wall it is the force the fluid
+// exerts on it (momentum balance). 0 for wall particles without fluid neighbours.
+void compute_boundary_pressures(ParticleSet& particles, const SphSystem& system, const std::vector<double>& density,
+                                double face_length);
+
+// Neighbours that take part in the sums (fluid or boundary), per particle.
+void count_active_neighbours(const ParticleSet& particles, const SphSystem& system,
+                             std::vector<std::uint32_t>& counts);
+
+// sum_j W(|x_j|) over the square lattice of spacing `spacing` (0 included): the density of a
+// fluid particle with full support on the initial lattice is m times this (tests, run.json).
+double lattice_kernel_sum(const SphKernel& kernel, double spacing);
+// Points (i, j) != 0 of that lattice within the support: the full neighbour count.
+std::uint32_t lattice_neighbour_count(double support, double spacing);
+
+}  // namespace mps_lab::dfsph
