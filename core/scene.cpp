@@ -68,6 +68,12 @@ std::vector<ParameterSpec> output_keys() {
       string_parameter("directory", "output", "output folder, relative to the working directory"),
       integer_parameter("frame_every_steps", 100, "write a CSV/VTK frame every N steps (spec §3)").at_least(1),
       integer_parameter("series_every_steps", 10, "write a row of series.csv every N steps").at_least(1),
+      number_parameter("frame_interval", 0.0, "s",
+                       "also write a frame at the first step at or after every multiple of this time (0: off)")
+          .at_least(0.0),
+      number_parameter("series_interval", 0.0, "s",
+                       "also write a series row at the first step at or after every multiple of this time (0: off)")
+          .at_least(0.0),
       string_list_parameter("formats", {"csv", "vtk"}, "frame formats").one_of({"csv", "vtk"}),
   };
 }
@@ -269,6 +275,8 @@ Scene parse_scene(nlohmann::json document, const std::string& source, const Meth
   scene.output.directory = output.string("directory");
   scene.output.frame_every_steps = output.integer("frame_every_steps");
   scene.output.series_every_steps = output.integer("series_every_steps");
+  scene.output.frame_interval = output.number("frame_interval");
+  scene.output.series_interval = output.number("series_interval");
   scene.output.csv = scene.output.vtk = false;
   for (const auto& format : output.string_list("formats")) {
     if (format == "csv") scene.output.csv = true;

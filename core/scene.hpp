@@ -49,6 +49,8 @@ struct OutputControl {
   std::string directory = "output";
   long long frame_every_steps = 100;   // CSV/VTK frames (spec §3)
   long long series_every_steps = 10;   // rows of series.csv
+  double frame_interval = 0.0;         // s; > 0: also a frame at the first step at or after each multiple
+  double series_interval = 0.0;        // s; > 0: also a series row at the first step at or after each multiple
   bool csv = true;
   bool vtk = true;
 };

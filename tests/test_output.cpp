@@ -188,3 +188,30 @@ TEST_CASE("a rerun into the same folder replaces the previous run's files and no
   CHECK_FALSE(std::filesystem::exists(out / "output_000900.csv"));
   CHECK(read_text(out / "notes.txt") == "mine\n");
 }
+
+TEST_CASE("output by simulated time: a frame at the first step at or after each multiple", "[output]") {
+  const auto out = fresh_directory("frame_interval");
+  RunOptions options;
+  options.scene_path = scene_path("dambreak.json");
+  options.output_directory = out.string();
+  // dt = 3e-4 s does not divide 0.01 s: frames fall at steps 34, 67, 100, 134, 167
+  // (t = 0.0102, 0.0201, 0.03, 0.0402, 0.0501), plus step 0. Step counting is off (1e6).
+  options.overrides = {"time.time_step=3e-4", "output.frame_every_steps=1000000", "output.frame_interval=0.01",
+                       "output.series_every_steps=1000000", "output.series_interval=0.002", "time.end_time=0.05"};
+  const RunResult result = run_simulation(options, registries().methods, registries().walls);
+  REQUIRE(result.status == "completed");
+  const auto index = nlohmann::json::parse(read_text(out / "output.vtk.series"));
+  std::vector<std::string> names;
+  for (const auto& file : index["files"]) names.push_back(file["name"]);
+  CHECK(names == std::vector<std::string>{"output_000000.vtk", "output_000034.vtk", "output_000067.vtk",
+                                          "output_000100.vtk", "output_000134.vtk", "output_000167.vtk"});
+  // The series: a row at step 0 and at the first step at or after each 0.002 s (25 rows;
+  // the 25th is the final step 167, t = 0.0501).
+  const Table series = read_table(out / "series.csv");
+  const auto time = series.column("time");
+  CHECK(time.size() == 26);
+  for (std::size_t k = 1; k < time.size(); ++k) {
+    CHECK(time[k] >= 0.002 * static_cast<double>(k) - 1e-12);
+    CHECK(time[k] < 0.002 * static_cast<double>(k) + 3e-4);
+  }
+}
