@@ -70,12 +70,7 @@ FlowMeasures measure_flow(const ParticleSet& particles, const Scene& scene) {
   int largest = -1;
   label_bodies(particles, neighbours, link, label, largest);
 
-  // The kernel sum of a particle on the undisturbed lattice (the reference density / m).
-  double lattice_sum = 0.0;
-  const int reach = static_cast<int>(std::ceil(kernel.support() / l0));
-  for (int i = -reach; i <= reach; ++i) {
-    for (int j = -reach; j <= reach; ++j) lattice_sum += kernel.value(l0 * std::hypot(i, j));
-  }
+  const double lattice_sum = lattice_kernel_sum(kernel, l0);  // reference density / m
 
   double bulk_front = -std::numeric_limits<double>::infinity();
   double any_front = bulk_front;

@@ -57,4 +57,15 @@ double SphKernel::derivative(double r) const {
   return -20.0 * sigma_ * scale_ * q * s * s * s;  // d/dq [(1-q)^4 (1+4q)] = -20 q (1-q)^3
 }
 
+double lattice_kernel_sum(const SphKernel& kernel, double spacing) {
+  const int reach = static_cast<int>(std::ceil(kernel.support() / spacing));
+  double sum = 0.0;
+  for (int j = -reach; j <= reach; ++j) {
+    for (int i = -reach; i <= reach; ++i) {
+      sum += kernel.value(spacing * std::hypot(static_cast<double>(i), static_cast<double>(j)));
+    }
+  }
+  return sum;
+}
+
 }  // namespace mps_lab

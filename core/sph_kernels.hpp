@@ -42,4 +42,9 @@ class SphKernel {
   double scale_;  // 1/h (cubic) or 1/H (Wendland), 1/m
 };
 
+// Sum of W over the square lattice of the given spacing for a particle at a lattice point,
+// the particle itself included (1/m^2). m = rho0 / this sum makes the summation density of a
+// particle with full support exactly rho0; sum * spacing^2 is the lattice partition of unity.
+double lattice_kernel_sum(const SphKernel& kernel, double spacing);
+
 }  // namespace mps_lab

@@ -227,15 +227,6 @@ void count_active_neighbours(const ParticleSet& particles, const SphSystem& syst
   }
 }
 
-double lattice_kernel_sum(const SphKernel& kernel, double spacing) {
-  const int reach = static_cast<int>(std::ceil(kernel.support() / spacing)) + 1;
-  double sum = 0.0;
-  for (int a = -reach; a <= reach; ++a) {
-    for (int b = -reach; b <= reach; ++b) sum += kernel.value(spacing * std::hypot(a, b));
-  }
-  return sum;
-}
-
 std::uint32_t lattice_neighbour_count(double support, double spacing) {
   const int reach = static_cast<int>(std::ceil(support / spacing)) + 1;
   std::uint32_t count = 0;

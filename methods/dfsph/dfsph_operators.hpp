@@ -117,9 +117,8 @@ void compute_boundary_pressures(ParticleSet& particles, const SphSystem& system,
 void count_active_neighbours(const ParticleSet& particles, const SphSystem& system,
                              std::vector<std::uint32_t>& counts);
 
-// sum_j W(|x_j|) over the square lattice of spacing `spacing` (0 included): the density of a
-// fluid particle with full support on the initial lattice is m times this (tests, run.json).
-double lattice_kernel_sum(const SphKernel& kernel, double spacing);
+// (The lattice density of a fluid particle with full support is m lattice_kernel_sum, in
+// core/sph_kernels.hpp.)
 // Points (i, j) != 0 of that lattice within the support: the full neighbour count.
 std::uint32_t lattice_neighbour_count(double support, double spacing);
 

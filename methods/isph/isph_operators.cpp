@@ -16,17 +16,6 @@ namespace {
 constexpr double kMinimumMomentDeterminant = 0.1;
 }  // namespace
 
-double lattice_kernel_sum(const SphKernel& kernel, double spacing) {
-  const auto reach = static_cast<int>(std::ceil(kernel.support() / spacing));
-  double sum = 0.0;
-  for (int j = -reach; j <= reach; ++j) {
-    for (int i = -reach; i <= reach; ++i) {
-      sum += kernel.value(spacing * std::hypot(static_cast<double>(i), static_cast<double>(j)));
-    }
-  }
-  return sum;
-}
-
 void summation_density(const ParticleSet& particles, const NeighbourList& neighbours, const SphKernel& kernel,
                        double mass, double rest_density, std::vector<double>& density) {
   const auto n = static_cast<std::ptrdiff_t>(particles.size());

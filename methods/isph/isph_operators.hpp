@@ -27,10 +27,9 @@
 
 namespace mps_lab::isph {
 
-// Sum of W over the points (i l0, j l0) of the square lattice, the origin included (1/m^2).
-// With m = rho0 / lattice_kernel_sum, the summation density of a particle with full support
-// on the initial lattice is exactly rho0 (the SPH counterpart of MPS's n0).
-double lattice_kernel_sum(const SphKernel& kernel, double spacing);
+// The particle mass is m = rho0 / lattice_kernel_sum (core/sph_kernels.hpp): the summation
+// density of a particle with full support on the initial lattice is exactly rho0 (the SPH
+// counterpart of MPS's n0).
 
 // rho_i = m (W(0) + sum_j W_ij) over every non-ghost neighbour, fluid and wall (the summation
 // density, Monaghan 1992), for fluid particles; wall particles get rho0 (their

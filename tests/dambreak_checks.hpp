@@ -1,0 +1,81 @@
+#pragma once
+// The spec's dam break to t = 2 s with one method (scenes/dambreak.json unchanged), and the
+// checks every method must pass:
+//   - the run completes at t = 2 s;
+//   - every one of the 444 particles is fluid, wall or a counted ghost (fluid + ghosts = 171);
+//   - no position, velocity or pressure in any frame is NaN or infinite;
+//   - in every frame no fluid particle is closer than `min_wall_distance` (in l0) to a wall
+//     particle line (0.5 l0 is the wall surface, where the spec's position clamp holds fluid);
+//   - the front and height series cover every point of Martin & Moyce's Tables 2 and 6.
+// It returns the run and its evaluation against the experiment (core/compare.hpp: the same
+// numbers `mps_lab compare` writes into summary.csv), for each method's own tolerances.
+#include <algorithm>
+
+#include <catch2/catch.hpp>
+
+#include "core/compare.hpp"
+#include "core/driver.hpp"
+#include "support.hpp"
+
+namespace mps_lab::testing {
+
+struct DambreakOutcome {
+  RunResult result;
+  RunEvaluation evaluation;
+  std::size_t ghosts = 0;
+  std::size_t frames = 0;
+  double final_wall_distance = 0.0;  // m: closest fluid particle to a wall particle line, last frame
+};
+
+inline DambreakOutcome run_spec_dambreak(const std::string& method, double min_wall_distance = 0.5) {
+  const auto out = fresh_directory(method + "_dambreak");
+  RunOptions options;
+  options.scene_path = scene_path("dambreak.json");
+  options.method = method;
+  options.output_directory = out.string();
+  DambreakOutcome outcome;
+  outcome.result = run_simulation(options, registries().methods, registries().walls);
+  REQUIRE(outcome.result.status == "completed");
+  CHECK(outcome.result.simulated_time == Approx(2.0).epsilon(1e-12));
+
+  const double l0 = 0.025, left = 0.0, right = 1.0, bed = 0.0;
+  const double margin = min_wall_distance * l0 - 1e-12;
+  outcome.ghosts = outcome.result.summary["particles"]["ghost_final"].get<std::size_t>();
+  const auto index = nlohmann::json::parse(read_text(out / "output.vtk.series"));
+  std::size_t fluid_last = 0, rows_last = 0;
+  for (const auto& file : index["files"]) {
+    const std::string stem = file["name"].get<std::string>().substr(0, std::string("output_000000").size());
+    const Table frame = read_table(out / (stem + ".csv"));
+    ++outcome.frames;
+    const auto type = frame.column("type"), x = frame.column("x"), y = frame.column("y");
+    for (const auto& name : {"vx", "vy", "pressure"}) {
+      for (double value : frame.column(name)) REQUIRE(std::isfinite(value));
+    }
+    fluid_last = 0;
+    outcome.final_wall_distance = 1e9;
+    for (std::size_t k = 0; k < type.size(); ++k) {
+      if (type[k] != 0) continue;
+      ++fluid_last;
+      outcome.final_wall_distance = std::min({outcome.final_wall_distance, x[k] - left, right - x[k], y[k] - bed});
+      INFO(stem << ": fluid particle at (" << x[k] << ", " << y[k] << ")");
+      REQUIRE(std::isfinite(x[k]));
+      REQUIRE(std::isfinite(y[k]));
+      CHECK(x[k] - left >= margin);
+      CHECK(right - x[k] >= margin);
+      CHECK(y[k] - bed >= margin);
+    }
+    rows_last = type.size();
+  }
+  CHECK(rows_last + outcome.ghosts == 444);
+  CHECK(fluid_last + outcome.ghosts == 171);
+
+  outcome.evaluation = evaluate_run(out);
+  INFO("front RMS " << outcome.evaluation.front_rms << " max " << outcome.evaluation.front_max << "; best shift "
+                    << outcome.evaluation.front_shift << " -> RMS " << outcome.evaluation.front_rms_shifted
+                    << "; height RMS " << outcome.evaluation.height_rms);
+  CHECK(outcome.evaluation.front_points == 15);
+  CHECK(outcome.evaluation.height_points == 17);
+  return outcome;
+}
+
+}  // namespace mps_lab::testing
