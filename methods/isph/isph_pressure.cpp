@@ -5,6 +5,7 @@
 
 #include <Eigen/IterativeLinearSolvers>
 
+#include "core/pressure_system.hpp"
 #include "methods/isph/isph_operators.hpp"
 
 namespace mps_lab::isph {
@@ -13,47 +14,19 @@ namespace {
 
 using RowMatrix = Eigen::SparseMatrix<double, Eigen::RowMajor>;
 
-// Groups of unknowns connected through off-diagonal entries. Fluid rows sum to zero and wall
-// rows are weighted averages, so a group in which no row touches a Dirichlet (surface)
-// particle has a singular block: its pressure is defined up to a constant. As in the mps
-// method (and the public MPS-Basic code) the diagonal of such a group's fluid rows is
-// doubled, which pins its pressure level near zero. Returns the number of groups fixed.
+// A group of unknowns with no Dirichlet row (core/pressure_system.hpp) has a singular block:
+// fluid rows sum to zero and wall rows are weighted averages. As in the mps method (and the
+// public MPS-Basic code) the diagonal of such a group's fluid rows is doubled, which pins its
+// pressure level near zero. Returns the number of groups fixed.
 std::size_t regularise_ungrounded_groups(RowMatrix& matrix, const std::vector<char>& grounded,
                                          const std::vector<char>& is_fluid_row) {
-  const auto rows = static_cast<int>(matrix.rows());
-  std::vector<int> group(static_cast<std::size_t>(rows), -1);
-  std::vector<int> stack;
-  std::vector<int> members;
-  std::size_t fixed = 0;
-  int groups = 0;
-  for (int seed = 0; seed < rows; ++seed) {
-    if (group[static_cast<std::size_t>(seed)] >= 0) continue;
-    bool touches_dirichlet = false;
-    members.clear();
-    stack.assign(1, seed);
-    group[static_cast<std::size_t>(seed)] = groups;
-    while (!stack.empty()) {
-      const int row = stack.back();
-      stack.pop_back();
-      members.push_back(row);
-      touches_dirichlet = touches_dirichlet || grounded[static_cast<std::size_t>(row)];
-      for (RowMatrix::InnerIterator it(matrix, row); it; ++it) {
-        const auto col = static_cast<int>(it.col());
-        if (group[static_cast<std::size_t>(col)] < 0) {
-          group[static_cast<std::size_t>(col)] = groups;
-          stack.push_back(col);
-        }
-      }
-    }
-    ++groups;
-    if (!touches_dirichlet) {
-      ++fixed;
-      for (int row : members) {
-        if (is_fluid_row[static_cast<std::size_t>(row)]) matrix.coeffRef(row, row) *= 2.0;
-      }
+  const auto groups = ungrounded_groups(matrix, grounded);
+  for (const auto& members : groups) {
+    for (int row : members) {
+      if (is_fluid_row[static_cast<std::size_t>(row)]) matrix.coeffRef(row, row) *= 2.0;
     }
   }
-  return fixed;
+  return groups.size();
 }
 
 // BiCGSTAB until the *recomputed* residual ||b - A x|| / ||b|| is below the tolerance or the

@@ -4,48 +4,23 @@
 
 #include <Eigen/IterativeLinearSolvers>
 
+#include "core/pressure_system.hpp"
+
 namespace mps_lab::mps {
 
 namespace {
 
-// Groups of unknowns connected through off-diagonal entries; a group with no row that
-// touches a Dirichlet particle makes A singular (pressure defined up to a constant). The
-// remedy of the public MPS-Basic code (Kondo lab) is kept: double the diagonal of such a
-// group's rows, which pins its mean pressure near zero. Returns the number of groups fixed.
+// A group of unknowns with no Dirichlet row (core/pressure_system.hpp) makes A singular
+// (pressure defined up to a constant). The remedy of the public MPS-Basic code (Kondo lab) is
+// kept: double the diagonal of such a group's rows, which pins its mean pressure near zero.
+// Returns the number of groups fixed.
 std::size_t regularise_ungrounded_groups(Eigen::SparseMatrix<double, Eigen::RowMajor>& matrix,
                                          const std::vector<char>& grounded) {
-  const auto rows = static_cast<int>(matrix.rows());
-  std::vector<int> group(static_cast<std::size_t>(rows), -1);
-  std::vector<int> stack;
-  std::vector<int> members;
-  std::size_t fixed = 0;
-  int groups = 0;
-  for (int seed = 0; seed < rows; ++seed) {
-    if (group[seed] >= 0) continue;
-    bool touches_dirichlet = false;
-    members.clear();
-    stack.assign(1, seed);
-    group[seed] = groups;
-    while (!stack.empty()) {
-      const int row = stack.back();
-      stack.pop_back();
-      members.push_back(row);
-      touches_dirichlet = touches_dirichlet || grounded[static_cast<std::size_t>(row)];
-      for (Eigen::SparseMatrix<double, Eigen::RowMajor>::InnerIterator it(matrix, row); it; ++it) {
-        const auto col = static_cast<int>(it.col());
-        if (group[col] < 0) {
-          group[col] = groups;
-          stack.push_back(col);
-        }
-      }
-    }
-    ++groups;
-    if (!touches_dirichlet) {
-      ++fixed;
-      for (int row : members) matrix.coeffRef(row, row) *= 2.0;
-    }
+  const auto groups = ungrounded_groups(matrix, grounded);
+  for (const auto& members : groups) {
+    for (int row : members) matrix.coeffRef(row, row) *= 2.0;
   }
-  return fixed;
+  return groups.size();
 }
 
 template <typename Solver>
