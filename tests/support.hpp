@@ -1,7 +1,9 @@
 #pragma once
 // Helpers shared by the tests: registries, scenes from the scenes/ folder with overrides,
 // temporary folders, running the built binary.
+#include <algorithm>
 #include <cstdlib>
+#include <limits>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -9,6 +11,7 @@
 #include <vector>
 
 #include "core/method.hpp"
+#include "core/particles.hpp"
 #include "core/scene.hpp"
 #include "core/wall_treatment.hpp"
 
@@ -71,6 +74,36 @@ inline CommandResult run_mps_lab(const std::string& arguments, const std::string
   result.stdout_text = read_text(dir / "out");
   result.stderr_text = read_text(dir / "err");
   return result;
+}
+
+// Centre of mass of the fluid particles (equal masses), m.
+inline Vec2 fluid_centroid(const ParticleSet& particles) {
+  Vec2 sum = Vec2::Zero();
+  std::size_t count = 0;
+  for (std::size_t i = 0; i < particles.size(); ++i) {
+    if (particles.type[i] != ParticleType::Fluid) continue;
+    sum += particles.position[i];
+    ++count;
+  }
+  return sum / static_cast<double>(count);
+}
+
+// Highest fluid particle centre, m.
+inline double fluid_top(const ParticleSet& particles) {
+  double top = -std::numeric_limits<double>::infinity();
+  for (std::size_t i = 0; i < particles.size(); ++i) {
+    if (particles.type[i] == ParticleType::Fluid) top = std::max(top, particles.position[i].y());
+  }
+  return top;
+}
+
+// Kinetic energy of the fluid per metre of depth, sum 1/2 rho l0^2 |u|^2, J/m.
+inline double fluid_kinetic_energy(const ParticleSet& particles, double density, double spacing) {
+  double energy = 0.0;
+  for (std::size_t i = 0; i < particles.size(); ++i) {
+    if (particles.type[i] == ParticleType::Fluid) energy += 0.5 * density * spacing * spacing * particles.velocity[i].squaredNorm();
+  }
+  return energy;
 }
 
 // Reads a CSV with a header into named columns of doubles.

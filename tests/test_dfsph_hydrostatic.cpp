@@ -52,16 +52,6 @@ struct StillWater {
   double bed_ratio = 0.0;                             // mean bed pressure / rho g (H - y_b - l0/2)
 };
 
-Vec2 fluid_centroid(const ParticleSet& particles) {
-  Vec2 sum = Vec2::Zero();
-  std::size_t count = 0;
-  for (std::size_t i = 0; i < particles.size(); ++i) {
-    if (particles.type[i] != ParticleType::Fluid) continue;
-    sum += particles.position[i];
-    ++count;
-  }
-  return sum / static_cast<double>(count);
-}
 
 StillWater run_still_water(const std::string& time_step_rule) {
   const Scene scene = load("hydrostatic.json", {"time.end_time=3.0", "methods.dfsph.time_step_rule=\"" + time_step_rule + "\""});
@@ -70,10 +60,7 @@ StillWater run_still_water(const std::string& time_step_rule) {
   const long long cap = scene.method_config("dfsph").parameters.integer("density_max_iterations");
   const auto& p = simulation.particles();
   StillWater out;
-  double top = 0.0;
-  for (std::size_t i = 0; i < p.size(); ++i) {
-    if (p.type[i] == ParticleType::Fluid) top = std::max(top, p.position[i].y());
-  }
+  const double top = fluid_top(p);  // m
   const double surface = top + 0.5 * l0;  // H
   const Vec2 centroid0 = fluid_centroid(p);
   const double fluid_mass = rho * l0 * l0 * static_cast<double>(p.count(ParticleType::Fluid));

@@ -24,31 +24,12 @@
 using namespace mps_lab;
 using namespace mps_lab::testing;
 
-namespace {
-
-Vec2 fluid_centroid(const ParticleSet& particles) {
-  Vec2 sum = Vec2::Zero();
-  std::size_t count = 0;
-  for (std::size_t i = 0; i < particles.size(); ++i) {
-    if (particles.type[i] != ParticleType::Fluid) continue;
-    sum += particles.position[i];
-    ++count;
-  }
-  return sum / static_cast<double>(count);
-}
-
-}  // namespace
-
 TEST_CASE("ISPH hydrostatics: still water stays still and its pressure is rho g (H - y)", "[isph][hydrostatic]") {
   const Scene scene = load("hydrostatic.json", {"time.end_time=3.0"});
   Simulation simulation(scene, *registries().methods.find("isph"));
   const double l0 = scene.particle_spacing;
   const double rho = scene.physics.density, g = 9.81;
-  double top = 0.0;
-  for (std::size_t i = 0; i < simulation.particles().size(); ++i) {
-    if (simulation.particles().type[i] == ParticleType::Fluid)
-      top = std::max(top, simulation.particles().position[i].y());
-  }
+  const double top = fluid_top(simulation.particles());  // m
   const double surface = top + 0.5 * l0;  // H, m
   const Vec2 centroid0 = fluid_centroid(simulation.particles());
   const double fluid_mass = rho * l0 * l0 * static_cast<double>(simulation.particles().count(ParticleType::Fluid));

@@ -21,30 +21,12 @@
 using namespace mps_lab;
 using namespace mps_lab::testing;
 
-namespace {
-
-Vec2 fluid_centroid(const ParticleSet& particles) {
-  Vec2 sum = Vec2::Zero();
-  std::size_t count = 0;
-  for (std::size_t i = 0; i < particles.size(); ++i) {
-    if (particles.type[i] != ParticleType::Fluid) continue;
-    sum += particles.position[i];
-    ++count;
-  }
-  return sum / static_cast<double>(count);
-}
-
-}  // namespace
-
 TEST_CASE("MPS hydrostatics: still water stays in place and its mean pressure is rho g (H - y)", "[mps][hydrostatic]") {
   const Scene scene = load("hydrostatic.json", {"time.end_time=3.0"});
   Simulation simulation(scene, *registries().methods.find("mps"));
   const double l0 = scene.particle_spacing;
   const double rho = scene.physics.density, g = 9.81;
-  double top = 0.0;
-  for (std::size_t i = 0; i < simulation.particles().size(); ++i) {
-    if (simulation.particles().type[i] == ParticleType::Fluid) top = std::max(top, simulation.particles().position[i].y());
-  }
+  const double top = fluid_top(simulation.particles());  // m
   const double surface = top + 0.5 * l0;  // H, m
   const Vec2 centroid0 = fluid_centroid(simulation.particles());
   const double fluid_mass = rho * l0 * l0 * static_cast<double>(simulation.particles().count(ParticleType::Fluid));
@@ -53,14 +35,7 @@ TEST_CASE("MPS hydrostatics: still water stays in place and its mean pressure is
   // Depth bins 0.05, 0.10, ..., 0.25 m (half-width l0): accumulated mean pressure.
   std::vector<double> depth = {0.05, 0.10, 0.15, 0.20, 0.25}, pressure_sum(5, 0.0), reference_sum(5, 0.0);
   double max_rise = 0.0, max_sideways = 0.0, energy_at_2s = 0.0, max_energy_late = 0.0;
-  const auto kinetic = [&] {
-    double e = 0.0;
-    const auto& p = simulation.particles();
-    for (std::size_t i = 0; i < p.size(); ++i) {
-      if (p.type[i] == ParticleType::Fluid) e += 0.5 * rho * l0 * l0 * p.velocity[i].squaredNorm();
-    }
-    return e;
-  };
+  const auto kinetic = [&] { return fluid_kinetic_energy(simulation.particles(), rho, l0); };
   while (simulation.time() < 3.0 - 1e-9) {
     simulation.advance();
     const auto& p = simulation.particles();
