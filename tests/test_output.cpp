@@ -215,3 +215,18 @@ TEST_CASE("output by simulated time: a frame at the first step at or after each 
     CHECK(time[k] < 0.002 * static_cast<double>(k) + 3e-4);
   }
 }
+
+TEST_CASE("a scene beyond the tested size runs, with a note in run.json", "[output]") {
+  const auto out = fresh_directory("large_note");
+  RunOptions options;
+  options.scene_path = scene_path("dambreak.json");
+  options.output_directory = out.string();
+  // l0 = 0.0025: 99 x 199 = 19701 fluid particles, beyond the original 10000 (one step only).
+  options.overrides = {"particle_spacing=0.0025", "time.time_step=1e-5", "time.end_time=1e-5"};
+  const RunResult result = run_simulation(options, registries().methods, registries().walls);
+  REQUIRE(result.status == "completed");
+  REQUIRE(result.summary["notes"].size() == 1);
+  CHECK_THAT(result.summary["notes"][0].get<std::string>(), Catch::Contains("beyond the 10000"));
+  options.overrides = {"time.end_time=1e-3"};
+  CHECK(run_simulation(options, registries().methods, registries().walls).summary["notes"].empty());
+}
