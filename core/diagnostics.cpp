@@ -46,12 +46,6 @@ std::size_t label_bodies(const ParticleSet& particles, const NeighbourList& link
 
 }  // namespace
 
-std::size_t label_fluid_bodies(const ParticleSet& particles, double link_distance, std::vector<int>& label,
-                               int& largest) {
-  const NeighbourList links = find_neighbours(particles.position, particles.type, link_distance);
-  return label_bodies(particles, links, link_distance, label, largest);
-}
-
 FlowMeasures measure_flow(const ParticleSet& particles, const Scene& scene) {
   FlowMeasures out;
   const double l0 = scene.particle_spacing;

@@ -39,9 +39,4 @@ struct FlowMeasures {
 
 FlowMeasures measure_flow(const ParticleSet& particles, const Scene& scene);
 
-// Labels connected bodies of fluid: label[i] = component index (-1 for non-fluid).
-// Returns the number of components; `largest` receives the index of the biggest.
-std::size_t label_fluid_bodies(const ParticleSet& particles, double link_distance, std::vector<int>& label,
-                               int& largest);
-
 }  // namespace mps_lab

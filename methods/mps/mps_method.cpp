@@ -13,6 +13,7 @@
 
 #include "core/geometry.hpp"
 #include "core/method.hpp"
+#include "core/output.hpp"
 #include "core/scene.hpp"
 #include "methods/mps/mps_operators.hpp"
 #include "methods/mps/mps_pressure.hpp"
@@ -97,9 +98,9 @@ class MpsMethod final : public Method {
     if (!solve.converged) {
       ++nonconverged_solves_;
       if (fail_on_nonconvergence_) {
-        throw std::runtime_error("MPS pressure solve did not reach cg_tolerance " + std::to_string(settings_.tolerance) +
+        throw std::runtime_error("MPS pressure solve did not reach cg_tolerance " + format_double(settings_.tolerance) +
                                  " in " + std::to_string(solve.iterations) + " iterations (residual " +
-                                 std::to_string(solve.residual) + ")");
+                                 format_double(solve.residual) + ")");
       }
     }
     pressure_acceleration(particles, neighbours_, gradient_radius_, carries_pressure_, scene_.physics.density,
