@@ -38,44 +38,39 @@ def label_of(run: data.Run) -> str:
     return f"{run.method} (l0 = {run.summary['shared']['particle_spacing']:g} m)"
 
 
-def plot_front(runs: list[data.Run], path: str) -> None:
-    """Surge front Z = z/a against T = n t sqrt(g/a), with Martin & Moyce (1952) Table 2."""
+def plot_against_experiment(runs: list[data.Run], path: str, curve_of, experiment, marker: str, labels: dict) -> None:
+    """One quantity of every run against its experimental points: curve_of(run) -> (x, y)."""
     fig, ax = plt.subplots(figsize=(6.4, 4.4))
-    exp_t, exp_z = data.martin_moyce_front()
+    exp_x, exp_y = experiment
     for k, run in enumerate(runs):
-        t, z = run.front_curve()
-        rms, _, _ = data.curve_error(t, z, exp_t, exp_z)
-        ax.plot(t, z, color=colour_of(run, k), label=f"{label_of(run)}: RMS {rms:.3f}")
-    ax.plot(exp_t, exp_z, "ko", mfc="none", label="Martin & Moyce (1952), $n^2 = 2$")
-    ax.set_xlabel(r"$T = n\,t\,\sqrt{g/a}$")
-    ax.set_ylabel(r"$Z = z/a$")
-    ax.set_xlim(0, 4.0)
-    ax.set_ylim(1, 4.6)
-    ax.legend(loc="upper left")
-    ax.set_title("Surge front")
+        x, y = curve_of(run)
+        rms, _, _ = data.curve_error(x, y, exp_x, exp_y)
+        ax.plot(x, y, color=colour_of(run, k), label=f"{label_of(run)}: RMS {rms:.3f}")
+    ax.plot(exp_x, exp_y, marker, color="k", mfc="none", linestyle="none", label="Martin & Moyce (1952), $n^2 = 2$")
+    ax.set_xlabel(labels["x"])
+    ax.set_ylabel(labels["y"])
+    ax.set_xlim(*labels["xlim"])
+    ax.set_ylim(*labels["ylim"])
+    ax.legend(loc=labels["legend"])
+    ax.set_title(labels["title"])
     fig.tight_layout()
     fig.savefig(path)
     plt.close(fig)
+
+
+def plot_front(runs: list[data.Run], path: str) -> None:
+    """Surge front Z = z/a against T = n t sqrt(g/a), with Martin & Moyce (1952) Table 2."""
+    plot_against_experiment(runs, path, lambda run: run.front_curve(), data.martin_moyce_front(), "o",
+                            {"x": r"$T = n\,t\,\sqrt{g/a}$", "y": r"$Z = z/a$", "xlim": (0, 4.0), "ylim": (1, 4.6),
+                             "legend": "upper left", "title": "Surge front"})
 
 
 def plot_height(runs: list[data.Run], path: str) -> None:
     """Residual height H* = h/(n^2 a) against tau = t sqrt(g/a), with Martin & Moyce Table 6."""
-    fig, ax = plt.subplots(figsize=(6.4, 4.4))
-    exp_tau, exp_h = data.martin_moyce_height()
-    for k, run in enumerate(runs):
-        tau, h = run.height_curve()
-        rms, _, _ = data.curve_error(tau, h, exp_tau, exp_h)
-        ax.plot(tau, h, color=colour_of(run, k), label=f"{label_of(run)}: RMS {rms:.3f}")
-    ax.plot(exp_tau, exp_h, "ks", mfc="none", label="Martin & Moyce (1952), $n^2 = 2$")
-    ax.set_xlabel(r"$\tau = t\,\sqrt{g/a}$")
-    ax.set_ylabel(r"$H^* = h/(n^2 a)$")
-    ax.set_xlim(0, 8.0)
-    ax.set_ylim(0, 1.05)
-    ax.legend(loc="upper right")
-    ax.set_title("Residual column height at the back wall")
-    fig.tight_layout()
-    fig.savefig(path)
-    plt.close(fig)
+    plot_against_experiment(runs, path, lambda run: run.height_curve(), data.martin_moyce_height(), "s",
+                            {"x": r"$\tau = t\,\sqrt{g/a}$", "y": r"$H^* = h/(n^2 a)$", "xlim": (0, 8.0),
+                             "ylim": (0, 1.05), "legend": "upper right",
+                             "title": "Residual column height at the back wall"})
 
 
 def read_frame(path: str) -> np.ndarray:
