@@ -44,7 +44,43 @@ std::size_t label_bodies(const ParticleSet& particles, const NeighbourList& link
   return sizes.size();
 }
 
+// rho_i / rho_lattice for particle i: the cubic-spline summation density over fluid and
+// wall neighbours, divided by the same sum on the undisturbed lattice (diagnostics.hpp).
+double relative_density(const ParticleSet& particles, std::size_t i, const NeighbourList& neighbours,
+                        const SphKernel& kernel, double lattice_sum) {
+  const Vec2& x = particles.position[i];
+  double sum = kernel.value(0.0);
+  for (std::uint32_t k = neighbours.begin(i); k < neighbours.end(i); ++k) {
+    sum += kernel.value((particles.position[neighbours.indices[k]] - x).norm());
+  }
+  return sum / lattice_sum;
+}
+
+// Particles with nearly full support count in the density error (diagnostics.hpp).
+constexpr double kFullSupportRatio = 0.9;
+
+SphKernel density_kernel(const Scene& scene) {
+  return SphKernel(SphKernelKind::CubicSpline, scene.diagnostics.density_support * scene.particle_spacing);
+}
+
 }  // namespace
+
+double common_density_error(const ParticleSet& particles, const Scene& scene) {
+  const SphKernel kernel = density_kernel(scene);
+  const NeighbourList neighbours = find_neighbours(particles.position, particles.type, kernel.support());
+  const double lattice_sum = lattice_kernel_sum(kernel, scene.particle_spacing);
+  double deviation = 0.0;
+  std::size_t full_support = 0;
+  for (std::size_t i = 0; i < particles.size(); ++i) {
+    if (particles.type[i] != ParticleType::Fluid) continue;
+    const double ratio = relative_density(particles, i, neighbours, kernel, lattice_sum);
+    if (ratio >= kFullSupportRatio) {
+      deviation += std::fabs(ratio - 1.0);
+      ++full_support;
+    }
+  }
+  return full_support > 0 ? deviation / static_cast<double>(full_support) : 0.0;
+}
 
 FlowMeasures measure_flow(const ParticleSet& particles, const Scene& scene) {
   FlowMeasures out;
@@ -55,7 +91,7 @@ FlowMeasures measure_flow(const ParticleSet& particles, const Scene& scene) {
   const double wall_surface = back_wall + 0.5 * l0;
   const double probe_limit = wall_surface + scene.diagnostics.height_probe_width * l0;
   const double link = scene.diagnostics.front_link_distance * l0;
-  const SphKernel kernel(SphKernelKind::CubicSpline, scene.diagnostics.density_support * l0);
+  const SphKernel kernel = density_kernel(scene);
 
   // One search serves the bodies (radius `link`) and the density sums (kernel support).
   const NeighbourList neighbours =
@@ -86,12 +122,8 @@ FlowMeasures measure_flow(const ParticleSet& particles, const Scene& scene) {
       bulk_front = std::max(bulk_front, x.x());
       if (x.x() < probe_limit) top = std::max(top, x.y());
     }
-    double sum = kernel.value(0.0);
-    for (std::uint32_t k = neighbours.begin(i); k < neighbours.end(i); ++k) {
-      sum += kernel.value((particles.position[neighbours.indices[k]] - x).norm());
-    }
-    const double ratio = sum / lattice_sum;
-    if (ratio >= 0.9) {
+    const double ratio = relative_density(particles, i, neighbours, kernel, lattice_sum);
+    if (ratio >= kFullSupportRatio) {
       density_deviation += std::fabs(ratio - 1.0);
       ++full_support;
     }

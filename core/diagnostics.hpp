@@ -39,4 +39,7 @@ struct FlowMeasures {
 
 FlowMeasures measure_flow(const ParticleSet& particles, const Scene& scene);
 
+// FlowMeasures::density_error alone (one neighbour search), for the stability monitor.
+double common_density_error(const ParticleSet& particles, const Scene& scene);
+
 }  // namespace mps_lab

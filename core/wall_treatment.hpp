@@ -25,11 +25,15 @@ struct Scene;
 
 // What a hook sees: the particles, the current neighbour list (may be null before the
 // first search of a step), the time step and the scene (geometry, spacing, physics).
+// A treatment that caps particle speeds counts them in `speed_limited`; the method passes
+// the count on (StepReport), and the stability monitor reports a step whose flow is set
+// by the cap rather than by the equations.
 struct WallContext {
   ParticleSet& particles;
   const NeighbourList* neighbours;
   double dt;  // s
   const Scene& scene;
+  std::size_t speed_limited = 0;  // fluid particles whose speed was capped in this step
 };
 
 class WallTreatment {

@@ -18,12 +18,17 @@ class CflVelocityClamp final : public WallTreatment {
     auto& particles = context.particles;
     const double v_max = cfl_ * spacing_ / context.dt;  // m/s
     const auto n = static_cast<std::ptrdiff_t>(particles.size());
-#pragma omp parallel for schedule(static)
+    std::size_t limited = 0;
+#pragma omp parallel for schedule(static) reduction(+ : limited)
     for (std::ptrdiff_t i = 0; i < n; ++i) {
       if (particles.type[i] != ParticleType::Fluid) continue;
       const double speed = particles.velocity[i].norm();
-      if (speed > v_max) particles.velocity[i] *= v_max / speed;
+      if (speed > v_max) {
+        particles.velocity[i] *= v_max / speed;
+        ++limited;
+      }
     }
+    context.speed_limited += limited;
   }
 
  private:
