@@ -1,10 +1,12 @@
 #include "app/commands.hpp"
 
+#include <csignal>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <iostream>
 
+#include <signal.h>
 #include <unistd.h>
 
 #include "core/compare.hpp"
@@ -15,6 +17,61 @@
 
 namespace mps_lab::app {
 
+namespace {
+
+// The one piece of global mutable state of the program: a signal handler may only talk to
+// the rest of it through a `volatile std::sig_atomic_t` of static storage duration (C++17
+// [support.signal]). It holds the first SIGINT or SIGTERM received, 0 before; the run polls
+// it between steps through RunOptions::stop_reason, so core/ has no global state.
+volatile std::sig_atomic_t received_stop_signal = 0;
+
+extern "C" void on_stop_signal(int signal_number) { received_stop_signal = signal_number; }
+
+// SIGINT and SIGTERM ask the run to stop cleanly after the current step. SA_RESETHAND
+// restores the default action after the first one: a second signal ends the process at
+// once (every file is written atomically, so the folder still holds only complete files).
+void install_stop_handlers() {
+  struct sigaction action {};
+  action.sa_handler = on_stop_signal;
+  sigemptyset(&action.sa_mask);
+  action.sa_flags = SA_RESETHAND;
+  sigaction(SIGINT, &action, nullptr);
+  sigaction(SIGTERM, &action, nullptr);
+}
+
+std::string stop_reason() {
+  const int signal_number = received_stop_signal;
+  if (signal_number == 0) return "";
+  if (signal_number == SIGINT) return "SIGINT";
+  if (signal_number == SIGTERM) return "SIGTERM";
+  return "signal " + std::to_string(signal_number);
+}
+
+// The exit code of a finished run (or resumed run), with its one line on stderr or stdout.
+int report_run(const RunResult& result, bool quiet) {
+  if (result.status == "interrupted") {
+    std::fprintf(stderr, "mps_lab: run %s; state in %s/checkpoint.bin\n", result.message.c_str(),
+                 result.directory.c_str());
+    return 128 + static_cast<int>(received_stop_signal);
+  }
+  if (result.status != "completed") {
+    std::fprintf(stderr, "mps_lab: run %s at t = %.6g s after %lld steps: %s (see %s/run.json)\n",
+                 result.status.c_str(), result.simulated_time, result.steps, result.message.c_str(),
+                 result.directory.c_str());
+    return 1;
+  }
+  if (!quiet) {
+    const auto& summary = result.summary;
+    std::printf("%s: %lld steps to t = %.4g s in %.2f s wall (%d threads), mean solver iterations %.1f -> %s/\n",
+                summary["method"].get<std::string>().c_str(), result.steps, result.simulated_time,
+                result.wall_seconds, summary["threads"].get<int>(),
+                summary["solver"]["mean_iterations"].get<double>(), result.directory.c_str());
+  }
+  return 0;
+}
+
+}  // namespace
+
 int run_command(const RunCommand& command) {
   const MethodRegistry methods = builtin_methods();
   const WallTreatmentRegistry walls = builtin_wall_treatments();
@@ -24,22 +81,24 @@ int run_command(const RunCommand& command) {
   options.output_directory = command.out;
   options.overrides = command.set;
   options.end_time = command.end_time;
+  options.checkpoint_every_steps = command.checkpoint_every;
   options.progress = !command.quiet;
-  const RunResult result = run_simulation(options, methods, walls);
-  if (result.status != "completed") {
-    std::fprintf(stderr, "mps_lab: run %s at t = %.6g s after %lld steps: %s (see %s/run.json)\n",
-                 result.status.c_str(), result.simulated_time, result.steps, result.message.c_str(),
-                 result.directory.c_str());
-    return 1;
-  }
-  if (!command.quiet) {
-    const auto& summary = result.summary;
-    std::printf("%s: %lld steps to t = %.4g s in %.2f s wall (%d threads), mean solver iterations %.1f -> %s/\n",
-                summary["method"].get<std::string>().c_str(), result.steps, result.simulated_time,
-                result.wall_seconds, summary["threads"].get<int>(),
-                summary["solver"]["mean_iterations"].get<double>(), result.directory.c_str());
-  }
-  return 0;
+  options.stop_reason = stop_reason;
+  install_stop_handlers();
+  return report_run(run_simulation(options, methods, walls), command.quiet);
+}
+
+int resume_command(const ResumeCommand& command) {
+  const MethodRegistry methods = builtin_methods();
+  const WallTreatmentRegistry walls = builtin_wall_treatments();
+  RunOptions options;
+  options.resume_directory = command.directory;
+  options.end_time = command.end_time;
+  options.checkpoint_every_steps = command.checkpoint_every;
+  options.progress = !command.quiet;
+  options.stop_reason = stop_reason;
+  install_stop_handlers();
+  return report_run(run_simulation(options, methods, walls), command.quiet);
 }
 
 namespace {
@@ -67,7 +126,14 @@ int compare_command(const CompareCommand& command) {
   options.overrides = command.set;
   options.end_time = command.end_time;
   options.progress = !command.quiet;
+  options.stop_reason = stop_reason;
+  install_stop_handlers();
   const auto rows = compare_methods(options, methods, walls);
+  if (!rows.empty() && rows.back().status == "interrupted") {
+    std::fprintf(stderr, "mps_lab: compare stopped by %s after %s (%s); the methods after it were not run\n",
+                 stop_reason().c_str(), rows.back().method.c_str(), (out + "/" + rows.back().method).c_str());
+    return 128 + static_cast<int>(received_stop_signal);
+  }
 
   bool all_completed = true;
   if (!command.quiet) {

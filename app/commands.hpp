@@ -1,6 +1,7 @@
 #pragma once
 // Sub-commands of the mps_lab front end. Each returns the process exit code:
-// 0 success, 1 the run failed (diverged, solver failure), 2 bad input, 3 output error.
+// 0 success, 1 the run failed (diverged, solver failure), 2 bad input, 3 output error,
+// 128 + the signal number (130 SIGINT, 143 SIGTERM) when stopped by a signal.
 #include <optional>
 #include <string>
 #include <vector>
@@ -13,6 +14,14 @@ struct RunCommand {
   std::string out;
   std::vector<std::string> set;
   std::optional<double> end_time;
+  std::optional<long long> checkpoint_every;
+  bool quiet = false;
+};
+
+struct ResumeCommand {
+  std::string directory;
+  std::optional<double> end_time;
+  std::optional<long long> checkpoint_every;
   bool quiet = false;
 };
 
@@ -27,6 +36,7 @@ struct CompareCommand {
 };
 
 int run_command(const RunCommand& command);
+int resume_command(const ResumeCommand& command);
 int compare_command(const CompareCommand& command);
 int methods_command(bool with_parameters);
 

@@ -1,5 +1,7 @@
 // mps_lab: command-line front end of the testbed.
 //   mps_lab run --method=mps scenes/dambreak.json [--out DIR] [--set key=value]... [--end-time T]
+//               [--checkpoint-every N]
+//   mps_lab resume DIR [--end-time T] [--checkpoint-every N]
 //   mps_lab compare scenes/dambreak.json [--methods mps,isph,dfsph] [--out runs/dambreak]
 //   mps_lab methods [--parameters]
 #include <cstdio>
@@ -24,7 +26,21 @@ int main(int argc, char** argv) {
       ->take_last()
       ->multi_option_policy(CLI::MultiOptionPolicy::TakeAll);
   run_app->add_option("--end-time", run.end_time, "simulated end time in s (overrides time.end_time)");
+  run_app->add_option("--checkpoint-every", run.checkpoint_every,
+                      "write the full state to <out>/checkpoint.bin every N steps, for `mps_lab resume` "
+                      "(overrides output.checkpoint_every_steps; 0: only when stopped by Ctrl-C/SIGTERM)");
   run_app->add_flag("--quiet,-q", run.quiet, "no progress line and no summary line");
+
+  mps_lab::app::ResumeCommand resume;
+  auto* resume_app = app.add_subcommand(
+      "resume", "continue a run from its folder's checkpoint.bin (interrupted, killed, or completed and extended "
+                "with --end-time), writing into the same folder");
+  resume_app->add_option("directory", resume.directory, "the run folder (holds run.json and checkpoint.bin)")
+      ->required();
+  resume_app->add_option("--end-time", resume.end_time, "simulated end time in s (default: the run's)");
+  resume_app->add_option("--checkpoint-every", resume.checkpoint_every,
+                         "checkpoint every N steps (default: as the run did)");
+  resume_app->add_flag("--quiet,-q", resume.quiet, "no progress line and no summary line");
 
   mps_lab::app::CompareCommand compare;
   auto* compare_app = app.add_subcommand(
@@ -51,6 +67,7 @@ int main(int argc, char** argv) {
 
   try {
     if (app.got_subcommand(run_app)) return mps_lab::app::run_command(run);
+    if (app.got_subcommand(resume_app)) return mps_lab::app::resume_command(resume);
     if (app.got_subcommand(compare_app)) return mps_lab::app::compare_command(compare);
     if (app.got_subcommand(methods_app)) return mps_lab::app::methods_command(with_parameters);
   } catch (const mps_lab::InputError& error) {

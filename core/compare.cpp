@@ -144,6 +144,7 @@ std::vector<RunEvaluation> compare_methods(const CompareOptions& options, const 
     run.overrides = options.overrides;
     run.end_time = options.end_time;
     run.progress = options.progress;
+    run.stop_reason = options.stop_reason;
     const RunResult result = run_simulation(run, methods, walls);
     if (options.progress) {
       std::fprintf(stderr, "%s: %s, %lld steps, %.2f s wall\n", name.c_str(), result.status.c_str(), result.steps,
@@ -151,6 +152,7 @@ std::vector<RunEvaluation> compare_methods(const CompareOptions& options, const 
     }
     rows.push_back(evaluate_run(run.output_directory));
     write_file_atomically(options.output_directory / "summary.csv", summary_csv(rows));
+    if (result.status == "interrupted") break;
   }
   return rows;
 }

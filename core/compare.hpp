@@ -2,6 +2,7 @@
 // Comparing methods on one scene: run each method into its own folder, then measure every
 // run the same way (core/validation.hpp) and write summary.csv, one row per method.
 #include <filesystem>
+#include <functional>
 #include <optional>
 #include <string>
 #include <vector>
@@ -45,10 +46,12 @@ struct CompareOptions {
   std::vector<std::string> overrides;
   std::optional<double> end_time;
   bool progress = false;
+  std::function<std::string()> stop_reason;  // as RunOptions::stop_reason; polled in every run
 };
 
 // Runs every method (a failed run is recorded, not fatal), writes <out>/<method>/ and
-// <out>/summary.csv. Throws InputError for a bad scene or an unknown method name.
+// <out>/summary.csv. An interrupted run (stop_reason) is the last one: the methods after it
+// are not run. Throws InputError for a bad scene or an unknown method name.
 std::vector<RunEvaluation> compare_methods(const CompareOptions& options, const MethodRegistry& methods,
                                            const WallTreatmentRegistry& walls);
 

@@ -23,6 +23,8 @@
 namespace mps_lab {
 
 struct Scene;
+class CheckpointWriter;
+class CheckpointReader;
 
 // A per-particle scalar the method needs; written to the VTK frames when `written`.
 struct FieldSpec {
@@ -37,6 +39,13 @@ struct FieldSpec {
 struct StepReport {
   long long solver_iterations = 0;
   double solver_residual = 0.0;
+  // False when a solver of this step stopped at its iteration cap above its tolerance; the
+  // stability monitor records it and, by the scene's `stability.on_solver_failure`, stops
+  // the run or goes on. `solver_note` says which solve (e.g. "PPE residual 3e-5 > 1e-8").
+  bool solver_converged = true;
+  std::string solver_note;
+  // Fluid particles whose speed a wall treatment capped in this step (WallContext).
+  std::size_t speed_limited_particles = 0;
   std::vector<double> extra;
 };
 
@@ -51,6 +60,13 @@ class Method {
   virtual StepReport step(ParticleSet& particles, double dt) = 0;
   // Method-specific constants and totals for run.json (e.g. n0, lambda, mean iterations).
   virtual nlohmann::json summary() const { return nlohmann::json::object(); }
+  // Checkpoints (core/checkpoint.hpp, docs/checkpoints.md): everything the method keeps
+  // between steps that is not in the ParticleSet (a neighbour list reused by the next step,
+  // warm-start values, its clock, the totals of summary()), so that a run restored after
+  // initialise() continues bit for bit. restore_state reads what save_state wrote, in order.
+  // The defaults suit a method that keeps nothing between steps.
+  virtual void save_state(CheckpointWriter&) const {}
+  virtual void restore_state(CheckpointReader&) {}
 };
 
 struct MethodSetup {

@@ -86,17 +86,19 @@ TEST_CASE("bad input: one line naming the problem, non-zero exit, nothing run", 
   CHECK(line_count(result.stderr_text) == 1);
 }
 
-TEST_CASE("a run that fails: status failed in run.json, one line, exit 1, the state at failure kept", "[cli]") {
+TEST_CASE("a run whose solver fails: status solver_failed in run.json, one line, exit 1, the state kept", "[cli]") {
   const auto out = fresh_directory("cli_failed_run");
-  // A CG capped at one iteration cannot reach 1e-8; asked to stop on it, the run fails in step 1.
+  // A CG capped at one iteration cannot reach 1e-8; asked to stop on it, the run ends in step 1.
   const auto result = run_mps_lab("run " + scene_path("dambreak.json") + " --out " + out.string() +
-                                      " --set methods.mps.cg_max_iterations=1 --set methods.mps.fail_on_nonconvergence=true",
+                                      " --set methods.mps.cg_max_iterations=1 --set stability.on_solver_failure=stop",
                                   "failed_run");
   CHECK(result.exit_code == 1);
   CHECK(line_count(result.stderr_text) == 1);
-  CHECK_THAT(result.stderr_text, Catch::Contains("run failed") && Catch::Contains("cg_tolerance 1e-08 in 1 iterations"));
+  CHECK_THAT(result.stderr_text, Catch::Contains("solver_failed") && Catch::Contains("step 1") &&
+                                     Catch::Contains("cg_tolerance 1e-08 after 1 iterations"));
   const auto summary = nlohmann::json::parse(read_text(out / "run.json"));
-  CHECK(summary["status"] == "failed");
-  CHECK_THAT(summary["message"].get<std::string>(), Catch::Contains("did not reach cg_tolerance"));
+  CHECK(summary["status"] == "solver_failed");
+  CHECK(summary["stability"]["counts"]["solver"] == 1);
+  CHECK_THAT(summary["message"].get<std::string>(), Catch::StartsWith("solver failed at t = 0.0005 s (step 1)"));
   CHECK(std::filesystem::exists(out / "output_000000.csv"));
 }

@@ -85,10 +85,11 @@ TEST_CASE("DFSPH first dam-break step: solvers stop at their tolerances and caps
   Simulation simulation(counted, dfsph());
   simulation.advance();
   CHECK(simulation.method().summary()["density_solver"]["not_converged"] == 1);
+  CHECK(simulation.monitor().count("solver") == 1);
   const Scene strict = load("dambreak.json", {"methods.dfsph.density_tolerance=1e-7", "methods.dfsph.density_max_iterations=3",
-                                              "methods.dfsph.fail_on_nonconvergence=true"});
+                                              "stability.on_solver_failure=stop"});
   Simulation failing(strict, dfsph());
-  CHECK_THROWS_WITH(failing.advance(), Catch::Contains("density solver did not reach its tolerance"));
+  CHECK_THROWS_WITH(failing.advance(), Catch::Contains("density solver error") && Catch::Contains("after 3 iterations"));
 }
 
 TEST_CASE("DFSPH rejects inconsistent bounds with a message naming the key", "[dfsph]") {

@@ -27,7 +27,9 @@ class FreeStreaming final : public Method {
     for (std::size_t i = 0; i < particles.size(); ++i) {
       if (particles.type[i] == ParticleType::Fluid) particles.position[i] += dt * particles.velocity[i];
     }
-    return {0, 0.0, {1.0}};
+    StepReport report;
+    report.extra = {1.0};
+    return report;
   }
 
  private:

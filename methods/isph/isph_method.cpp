@@ -14,8 +14,10 @@
 #include <cmath>
 #include <memory>
 
+#include "core/checkpoint.hpp"
 #include "core/geometry.hpp"
 #include "core/method.hpp"
+#include "core/output.hpp"
 #include "core/scene.hpp"
 #include "methods/isph/isph_operators.hpp"
 #include "methods/isph/isph_pressure.hpp"
@@ -169,7 +171,9 @@ class IsphMethod final : public Method {
     total_iterations_ += solve.iterations;
     ++steps_;
     ungrounded_groups_ += solve.ungrounded_groups;
-    return report(particles, solve);
+    StepReport result = report(particles, solve);
+    result.speed_limited_particles = context.speed_limited;
+    return result;
   }
 
   nlohmann::json summary() const override {
@@ -184,6 +188,32 @@ class IsphMethod final : public Method {
         {"nonconverged_solves", nonconverged_solves_},
         {"ghosts_created", ghosts_},
         {"ungrounded_groups_regularised", ungrounded_groups_}};
+  }
+
+  // State between steps: the predictor of the next step uses the neighbour list of this
+  // step's search at r* (viscosity and the wall hooks before the search), and the summary's
+  // totals. Everything else is rebuilt each step; the solver's warm start is particles.pressure
+  // and the operator density is the "density" field.
+  void save_state(CheckpointWriter& out) const override {
+    write_neighbour_list(out, neighbours_);
+    out.write_int(total_iterations_);
+    out.write_int(steps_);
+    out.write_int(nonconverged_solves_);
+    out.write_size(ghosts_);
+    out.write_size(ungrounded_groups_);
+  }
+
+  void restore_state(CheckpointReader& in) override {
+    read_neighbour_list(in, neighbours_);
+    total_iterations_ = in.read_int();
+    steps_ = in.read_int();
+    nonconverged_solves_ = in.read_int();
+    ghosts_ = in.read_size();
+    ungrounded_groups_ = in.read_size();
+    if (neighbours_.particle_count() != acceleration_.size()) {
+      in.fail("isph state for " + std::to_string(neighbours_.particle_count()) + " particles, the scene has " +
+              std::to_string(acceleration_.size()));
+    }
   }
 
  private:
@@ -263,6 +293,12 @@ class IsphMethod final : public Method {
     StepReport result;
     result.solver_iterations = solve.iterations;
     result.solver_residual = solve.residual;
+    result.solver_converged = solve.converged;
+    if (!solve.converged) {
+      result.solver_note = "BiCGSTAB residual " + format_double(solve.residual) + " > tolerance " +
+                           format_double(settings_.tolerance) + " after " + std::to_string(solve.iterations) +
+                           " iterations";
+    }
     result.extra = {interior > 0 ? deviation / static_cast<double>(interior) : 0.0,
                     largest,
                     static_cast<double>(solve.surface),
