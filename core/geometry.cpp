@@ -12,18 +12,57 @@ namespace mps_lab {
 
 namespace {
 
+std::string describe_point(const Vec2& point) { return describe_json(nlohmann::json::array({point.x(), point.y()})); }
+
 long long whole_spacings(double length, double l0, const Scene& scene, const std::string& what) {
   const double count = length / l0;
   const double rounded = std::round(count);
   if (std::fabs(count - rounded) > 1e-6 * std::max(1.0, count)) {
     throw_input_error(scene.source, "particle_spacing",
-                      "got " + std::to_string(l0) + " m, but the domain " + what + " (" + std::to_string(length) +
-                          " m) is not a whole number of spacings; walls must close on the lattice");
+                      "got " + describe_json(l0) + ", expected a spacing that divides the domain " + what + " (" +
+                          describe_json(length) + " m) a whole number of times; walls must close on the lattice");
   }
   return static_cast<long long>(rounded);
 }
 
+// Spec §4 note: fluid particles are the lattice points strictly inside a block.
+bool strictly_inside(double coordinate, double low, double high, double eps) {
+  return coordinate > low + eps && coordinate < high - eps;
+}
+
+// Whether some lattice coordinate origin + k l0 lies strictly inside (low, high).
+bool lattice_coordinate_inside(double origin, double low, double high, double l0) {
+  const auto first = static_cast<long long>(std::floor((low - origin) / l0)) - 1;
+  const auto last = static_cast<long long>(std::ceil((high - origin) / l0)) + 1;
+  for (long long k = first; k <= last; ++k) {
+    if (strictly_inside(origin + static_cast<double>(k) * l0, low, high, 1e-9 * l0)) return true;
+  }
+  return false;
+}
+
+[[noreturn]] void throw_empty_block(const Scene& scene, std::size_t k) {
+  const Box& box = scene.fluid_blocks[k].region;
+  throw_input_error(scene.source, "fluid_blocks[" + std::to_string(k) + "]",
+                    "got min " + describe_point(box.min) + " and max " + describe_point(box.max) +
+                        ", expected a block holding at least one lattice point strictly inside at particle_spacing " +
+                        describe_json(scene.particle_spacing) + " m");
+}
+
 }  // namespace
+
+void check_lattice(const Scene& scene) {
+  const double l0 = scene.particle_spacing;
+  const Vec2 origin = scene.domain.min;
+  whole_spacings(scene.domain.max.x() - origin.x(), l0, scene, "width");
+  whole_spacings(scene.domain.max.y() - origin.y(), l0, scene, "height");
+  for (std::size_t k = 0; k < scene.fluid_blocks.size(); ++k) {
+    const Box& box = scene.fluid_blocks[k].region;
+    if (!lattice_coordinate_inside(origin.x(), box.min.x(), box.max.x(), l0) ||
+        !lattice_coordinate_inside(origin.y(), box.min.y(), box.max.y(), l0)) {
+      throw_empty_block(scene, k);
+    }
+  }
+}
 
 ParticleSet build_particles(const Scene& scene) {
   const double l0 = scene.particle_spacing;
@@ -51,8 +90,8 @@ ParticleSet build_particles(const Scene& scene) {
     for (long long j = j_first; j <= j_last; ++j) {
       for (long long i = i_first; i <= i_last; ++i) {
         const Vec2 x = lattice(i, j);
-        if (x.x() > block.region.min.x() + eps && x.x() < block.region.max.x() - eps &&
-            x.y() > block.region.min.y() + eps && x.y() < block.region.max.y() - eps) {
+        if (strictly_inside(x.x(), block.region.min.x(), block.region.max.x(), eps) &&
+            strictly_inside(x.y(), block.region.min.y(), block.region.max.y(), eps)) {
           ++inside;
           if (fluid_points.insert({j, i}).second) {
             particles.add(x, block.velocity, ParticleType::Fluid);
@@ -60,10 +99,7 @@ ParticleSet build_particles(const Scene& scene) {
         }
       }
     }
-    if (inside == 0) {
-      throw_input_error(scene.source, "fluid_blocks[" + std::to_string(k) + "]",
-                        "holds no lattice point strictly inside at particle_spacing " + std::to_string(l0) + " m");
-    }
+    if (inside == 0) throw_empty_block(scene, k);
   }
 
   // Walls. Layer = 1 + how many spacings the point lies outside the fluid region along

@@ -13,7 +13,11 @@
 namespace mps_lab {
 
 // Throws InputError if the domain is not a whole number of spacings wide and high
-// (walls must close on the lattice) or if a fluid block holds no lattice point.
+// (walls must close on the lattice) or if a fluid block holds no lattice point. The scene
+// loader calls it, so these errors come before anything runs.
+void check_lattice(const Scene& scene);
+
+// Throws the errors of check_lattice.
 ParticleSet build_particles(const Scene& scene);
 
 // The margin beyond the domain after which a fluid particle leaves the computation,

@@ -1,37 +1,61 @@
 #include "core/output.hpp"
 
+#include <algorithm>
+#include <cerrno>
 #include <charconv>
 #include <cstdio>
 #include <fstream>
 #include <regex>
 #include <system_error>
 
+#include <fcntl.h>
 #include <unistd.h>
 
+#include "core/checkpoint.hpp"
 #include "core/error.hpp"
 
 namespace mps_lab {
 
 namespace fs = std::filesystem;
 
+namespace {
+
+[[noreturn]] void throw_write_error(const fs::path& reported, const std::string& what, int error_number) {
+  throw OutputError(reported.string() + ": " + what + " (" +
+                    std::error_code(error_number, std::generic_category()).message() + ")");
+}
+
+}  // namespace
+
+void write_file_checked(const fs::path& path, const std::string& content, const fs::path& reported_as) {
+  const fs::path& reported = reported_as.empty() ? path : reported_as;
+  const int descriptor = ::open(path.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0666);
+  if (descriptor < 0) throw_write_error(reported, "cannot write", errno);
+  // write() may write less than asked (a signal, a pipe); loop until all is out or it fails.
+  std::size_t done = 0;
+  while (done < content.size()) {
+    const ssize_t written = ::write(descriptor, content.data() + done, content.size() - done);
+    if (written < 0 && errno == EINTR) continue;
+    if (written <= 0) {
+      const int error_number = written < 0 ? errno : ENOSPC;  // 0 bytes for a non-empty write: no room
+      ::close(descriptor);
+      throw_write_error(reported, "write failed", error_number);
+    }
+    done += static_cast<std::size_t>(written);
+  }
+  // Network file systems report a failed write only when the file is closed.
+  if (::close(descriptor) != 0) throw_write_error(reported, "write failed on close", errno);
+}
+
 void write_file_atomically(const fs::path& path, const std::string& content) {
   fs::path temporary = path;
   temporary += ".tmp." + std::to_string(::getpid());
-  {
-    std::FILE* file = std::fopen(temporary.c_str(), "wb");
-    if (file == nullptr) {
-      throw OutputError(path.string() + ": cannot write (" + std::error_code(errno, std::generic_category()).message() + ")");
-    }
-    const std::size_t written = std::fwrite(content.data(), 1, content.size(), file);
-    const bool flushed = std::fflush(file) == 0;
-    const int saved_errno = errno;
-    const bool closed = std::fclose(file) == 0;
-    if (written != content.size() || !flushed || !closed) {
-      std::error_code ignored;
-      fs::remove(temporary, ignored);
-      throw OutputError(path.string() + ": write failed (" +
-                        std::error_code(saved_errno, std::generic_category()).message() + ")");
-    }
+  try {
+    write_file_checked(temporary, content, path);
+  } catch (const OutputError&) {
+    std::error_code ignored;
+    fs::remove(temporary, ignored);  // never leave a partial file behind
+    throw;
   }
   std::error_code error;
   fs::rename(temporary, path, error);
@@ -143,6 +167,24 @@ RunOutput::RunOutput(fs::path directory, bool csv, bool vtk, std::vector<std::st
   series_text_ += '\n';
 }
 
+namespace {
+
+// The files a run writes, and the temporary files write_file_atomically leaves behind when
+// a process is killed in the middle of a write.
+const std::regex& run_file_pattern() {
+  static const std::regex pattern(
+      R"(((output_\d{6,}\.(csv|vtk))|series\.csv|run\.json|output\.vtk\.series|checkpoint\.bin)(\.tmp\.\d+)?)");
+  return pattern;
+}
+
+void remove_file(const fs::path& path) {
+  std::error_code error;
+  fs::remove(path, error);
+  if (error) throw OutputError(path.string() + ": cannot remove a previous run's file (" + error.message() + ")");
+}
+
+}  // namespace
+
 void RunOutput::prepare() {
   std::error_code error;
   fs::create_directories(directory_, error);
@@ -154,14 +196,11 @@ void RunOutput::prepare() {
     throw OutputError(directory_.string() + ": the output folder is not writable");
   }
   // A previous run's files would mix with this run's frames: remove exactly those.
-  static const std::regex previous(R"((output_\d{6,}\.(csv|vtk))|series\.csv|run\.json|output\.vtk\.series)");
   for (const auto& entry : fs::directory_iterator(directory_, error)) {
     const std::string name = entry.path().filename().string();
-    if (entry.is_regular_file() && std::regex_match(name, previous)) {
-      fs::remove(entry.path(), error);
-      if (error) throw OutputError(entry.path().string() + ": cannot remove a previous run's file (" + error.message() + ")");
-    }
+    if (entry.is_regular_file() && std::regex_match(name, run_file_pattern())) remove_file(entry.path());
   }
+  if (error) throw OutputError(directory_.string() + ": cannot list the output folder (" + error.message() + ")");
   // Probe: a folder can pass access() and still refuse files (read-only mount, full disk).
   write_file_atomically(directory_ / "series.csv", series_text_);
 }
@@ -176,9 +215,62 @@ void RunOutput::write_frame(const ParticleSet& particles, const std::vector<Fiel
     // ParaView's JSON file-series index: open output.vtk.series to get every frame with its time.
     nlohmann::json index = {{"file-series-version", "1.0"}, {"files", nlohmann::json::array()}};
     for (const auto& [frame_time, name] : frames_) index["files"].push_back({{"name", name}, {"time", frame_time}});
-    write_file_atomically(directory_ / "output.vtk.series", index.dump(2) + "\n");
+    write_file_atomically(directory_ / "output.vtk.series",
+                          index.dump(2, ' ', false, nlohmann::json::error_handler_t::replace) + "\n");
   }
+  frame_steps_.push_back(step);
   last_frame_step_ = step;
+}
+
+void RunOutput::prepare_resume() {
+  if (!fs::is_directory(directory_) || ::access(directory_.c_str(), W_OK | X_OK) != 0) {
+    throw OutputError(directory_.string() + ": the run folder is not a writable folder");
+  }
+  static const std::regex frame(R"(output_(\d{6,})\.(csv|vtk))");
+  static const std::regex temporary(R"(.*\.tmp\.\d+)");
+  std::error_code error;
+  for (const auto& entry : fs::directory_iterator(directory_, error)) {
+    const std::string name = entry.path().filename().string();
+    if (!entry.is_regular_file() || !std::regex_match(name, run_file_pattern())) continue;
+    std::smatch match;
+    const bool stray_temporary = std::regex_match(name, temporary);
+    const bool unlisted_frame =
+        std::regex_match(name, match, frame) &&
+        std::find(frame_steps_.begin(), frame_steps_.end(), std::stoll(match[1].str())) == frame_steps_.end();
+    if (stray_temporary || unlisted_frame) remove_file(entry.path());
+  }
+  if (error) throw OutputError(directory_.string() + ": cannot list the run folder (" + error.message() + ")");
+}
+
+void RunOutput::save_state(CheckpointWriter& out) const {
+  out.write_string(series_text_);
+  out.write_size(frames_.size());
+  for (const auto& [time, name] : frames_) {
+    out.write_double(time);
+    out.write_string(name);
+  }
+  out.write_size(frame_steps_.size());
+  for (long long step : frame_steps_) out.write_int(step);
+  out.write_int(last_frame_step_);
+}
+
+void RunOutput::restore_state(CheckpointReader& in) {
+  std::string header;
+  for (const auto& column : series_columns_) header += (header.empty() ? "" : ",") + column;
+  header += '\n';
+  std::string series = in.read_string();
+  if (series.compare(0, header.size(), header) != 0) {
+    in.fail("series.csv columns differ from this build's: " + series.substr(0, series.find('\n')));
+  }
+  series_text_ = std::move(series);
+  frames_.resize(in.read_size());
+  for (auto& [time, name] : frames_) {
+    time = in.read_double();
+    name = in.read_string();
+  }
+  frame_steps_.resize(in.read_size());
+  for (long long& step : frame_steps_) step = in.read_int();
+  last_frame_step_ = in.read_int();
 }
 
 void RunOutput::add_series_row(const std::vector<double>& values) {
@@ -196,7 +288,9 @@ void RunOutput::add_series_row(const std::vector<double>& values) {
 void RunOutput::write_series() { write_file_atomically(directory_ / "series.csv", series_text_); }
 
 void RunOutput::write_summary(const nlohmann::json& summary) {
-  write_file_atomically(directory_ / "run.json", summary.dump(2) + "\n");
+  // A scene path or --set value in another encoding must not stop the summary being written.
+  write_file_atomically(directory_ / "run.json",
+                        summary.dump(2, ' ', false, nlohmann::json::error_handler_t::replace) + "\n");
 }
 
 }  // namespace mps_lab

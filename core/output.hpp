@@ -14,6 +14,17 @@
 
 namespace mps_lab {
 
+class CheckpointWriter;
+class CheckpointReader;
+
+// Writes `content` to `path` (created or emptied) and closes it, checking every call: a
+// full disk shows up as a failed write() or close(), never as an exception by itself. A
+// failure is an OutputError "<reported_as or path>: <what failed> (<errno text>)".
+void write_file_checked(const std::filesystem::path& path, const std::string& content,
+                        const std::filesystem::path& reported_as = {});
+
+// write_file_checked to "<path>.tmp.<pid>", then rename onto `path`: readers see the old
+// file or the complete new one. On failure the temporary file is removed.
 void write_file_atomically(const std::filesystem::path& path, const std::string& content);
 
 // Shortest decimal text that reads back to the same double.
@@ -36,13 +47,22 @@ class RunOutput {
   RunOutput(std::filesystem::path directory, bool csv, bool vtk, std::vector<std::string> series_columns);
 
   // Creates the folder, checks it is writable, removes a previous run's files from it
-  // (frames, series.csv, run.json, the index), and nothing else.
+  // (frames, series.csv, run.json, the index, checkpoint.bin, temporary files of those),
+  // and nothing else.
   void prepare();
+  // For a resumed run, after restore_state: checks that the folder is writable and removes
+  // the frames that the restored bookkeeping does not list (written after the checkpoint
+  // by a run that was killed, or the extra frame of an interruption) and temporary files.
+  void prepare_resume();
   void write_frame(const ParticleSet& particles, const std::vector<FieldSpec>& fields, double time,
                    long long step, const std::string& title);
   void add_series_row(const std::vector<double>& values);  // one value per column
   void write_series();  // rewrites series.csv atomically with every row so far
   void write_summary(const nlohmann::json& summary);  // run.json
+
+  // Checkpoints: the series rows so far and the frames written (core/checkpoint.hpp).
+  void save_state(CheckpointWriter& out) const;
+  void restore_state(CheckpointReader& in);
 
   const std::filesystem::path& directory() const { return directory_; }
   long long last_frame_step() const { return last_frame_step_; }
@@ -55,6 +75,7 @@ class RunOutput {
   std::vector<std::string> series_columns_;
   std::string series_text_;
   std::vector<std::pair<double, std::string>> frames_;  // (time, vtk file) for the index
+  std::vector<long long> frame_steps_;                   // every frame written, csv or vtk
   long long last_frame_step_ = -1;
 };
 

@@ -1,6 +1,7 @@
 #include "core/parameters.hpp"
 
 #include <cmath>
+#include <cstdio>
 #include <sstream>
 
 #include "core/error.hpp"
@@ -24,12 +25,104 @@ std::string join(const std::vector<std::string>& items) {
   return text;
 }
 
+// Bytes of the UTF-8 character starting at text[at], or 0 if none starts there.
+std::size_t utf8_length(const std::string& text, std::size_t at) {
+  const auto lead = static_cast<unsigned char>(text[at]);
+  std::size_t length = 0;
+  if (lead < 0x80) {
+    length = 1;
+  } else if (lead >= 0xC2 && lead <= 0xDF) {
+    length = 2;
+  } else if (lead >= 0xE0 && lead <= 0xEF) {
+    length = 3;
+  } else if (lead >= 0xF0 && lead <= 0xF4) {
+    length = 4;
+  }
+  if (length == 0 || at + length > text.size()) return 0;
+  for (std::size_t k = 1; k < length; ++k) {
+    if ((static_cast<unsigned char>(text[at + k]) & 0xC0) != 0x80) return 0;
+  }
+  return length;
+}
+
+// Control characters (a newline in a key or a file name) escaped and bytes that are not
+// UTF-8 replaced by '?', so that a message stays one printable line whatever the input held.
+std::string one_line(const std::string& text) {
+  std::string out;
+  out.reserve(text.size());
+  for (std::size_t at = 0; at < text.size();) {
+    const auto byte = static_cast<unsigned char>(text[at]);
+    const std::size_t length = utf8_length(text, at);
+    if (length > 1 || (length == 1 && byte >= 0x20 && byte != 0x7f)) {
+      out.append(text, at, length);
+      at += length;
+      continue;
+    }
+    if (length == 0) {
+      out += '?';
+    } else if (byte == '\n') {
+      out += "\\n";
+    } else {
+      char escaped[8];
+      std::snprintf(escaped, sizeof escaped, "\\x%02x", byte);
+      out += escaped;
+    }
+    ++at;
+  }
+  return out;
+}
+
+constexpr std::size_t kLongestDescription = 80;  // characters of a value quoted in a message
+
+void append_description(std::string& out, const nlohmann::json& value, int depth) {
+  if (out.size() > kLongestDescription) return;  // the rest is cut anyway
+  if (value.is_array() || value.is_object()) {
+    const bool array = value.is_array();
+    if (value.empty()) {
+      out += array ? "[]" : "{}";
+      return;
+    }
+    if (depth >= 3) {
+      out += array ? "[...]" : "{...}";
+      return;
+    }
+    out += array ? '[' : '{';
+    bool first = true;
+    for (auto item = value.begin(); item != value.end() && out.size() <= kLongestDescription; ++item) {
+      if (!first) out += ',';
+      first = false;
+      if (!array) out += nlohmann::json(item.key()).dump(-1, ' ', false, nlohmann::json::error_handler_t::replace) + ':';
+      append_description(out, *item, depth + 1);
+    }
+    out += array ? ']' : '}';
+    return;
+  }
+  if (value.is_string() && value.get_ref<const std::string&>().size() > kLongestDescription) {
+    const nlohmann::json start = value.get_ref<const std::string&>().substr(0, kLongestDescription);
+    out += start.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
+    return;
+  }
+  out += value.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
+}
+
 }  // namespace
 
 void throw_input_error(const std::string& source, const std::string& key, const std::string& message) {
   std::string text = source;
   if (!key.empty()) text += (text.empty() ? "" : ": ") + key;
-  throw InputError(text + ": " + message);
+  throw InputError(one_line(text + ": " + message));
+}
+
+std::string describe_json(const nlohmann::json& value) {
+  std::string out;
+  append_description(out, value, 0);
+  if (out.size() > kLongestDescription) {
+    std::size_t cut = kLongestDescription - 3;
+    while (cut > 0 && (static_cast<unsigned char>(out[cut]) & 0xC0) == 0x80) --cut;  // not inside a UTF-8 character
+    out.resize(cut);
+    out += "...";
+  }
+  return out;
 }
 
 std::string json_type_name(const nlohmann::json& value) {
@@ -185,15 +278,15 @@ nlohmann::json check_value(const ParameterSpec& spec, const nlohmann::json& valu
   const std::string expected = "expected " + spec.range_text();
   switch (spec.kind) {
     case ParameterKind::Boolean:
-      if (!value.is_boolean()) throw_input_error(source, key, "got " + value.dump() + ", " + expected);
+      if (!value.is_boolean()) throw_input_error(source, key, "got " + describe_json(value) + ", " + expected);
       return value;
     case ParameterKind::String: {
-      if (!value.is_string()) throw_input_error(source, key, "got " + value.dump() + ", " + expected);
+      if (!value.is_string()) throw_input_error(source, key, "got " + describe_json(value) + ", " + expected);
       if (!spec.choices.empty()) {
         const auto& text = value.get_ref<const std::string&>();
         bool known = false;
         for (const auto& choice : spec.choices) known = known || choice == text;
-        if (!known) throw_input_error(source, key, "got " + value.dump() + ", " + expected);
+        if (!known) throw_input_error(source, key, "got " + describe_json(value) + ", " + expected);
       }
       return value;
     }
@@ -202,7 +295,7 @@ nlohmann::json check_value(const ParameterSpec& spec, const nlohmann::json& valu
       for (std::size_t k = 0; ok && k < 2; ++k) {
         ok = value[k].is_number() && std::isfinite(value[k].get<double>());
       }
-      if (!ok) throw_input_error(source, key, "got " + value.dump() + ", " + expected);
+      if (!ok) throw_input_error(source, key, "got " + describe_json(value) + ", " + expected);
       return nlohmann::json::array({value[0].get<double>(), value[1].get<double>()});
     }
     case ParameterKind::StringList: {
@@ -215,20 +308,20 @@ nlohmann::json check_value(const ParameterSpec& spec, const nlohmann::json& valu
           ok = known;
         }
       }
-      if (!ok) throw_input_error(source, key, "got " + value.dump() + ", " + expected);
+      if (!ok) throw_input_error(source, key, "got " + describe_json(value) + ", " + expected);
       return value;
     }
     case ParameterKind::Integer:
     case ParameterKind::Number: {
-      if (!value.is_number()) throw_input_error(source, key, "got " + value.dump() + ", " + expected);
+      if (!value.is_number()) throw_input_error(source, key, "got " + describe_json(value) + ", " + expected);
       const double number = value.get<double>();
-      if (!std::isfinite(number)) throw_input_error(source, key, "got " + value.dump() + ", " + expected);
+      if (!std::isfinite(number)) throw_input_error(source, key, "got " + describe_json(value) + ", " + expected);
       if (spec.kind == ParameterKind::Integer && (std::floor(number) != number || std::fabs(number) > 9e15)) {
-        throw_input_error(source, key, "got " + value.dump() + ", " + expected);
+        throw_input_error(source, key, "got " + describe_json(value) + ", " + expected);
       }
       const bool below_min = spec.minimum_exclusive ? !(number > spec.minimum) : !(number >= spec.minimum);
       const bool above_max = spec.maximum_exclusive ? !(number < spec.maximum) : !(number <= spec.maximum);
-      if (below_min || above_max) throw_input_error(source, key, "got " + value.dump() + ", " + expected);
+      if (below_min || above_max) throw_input_error(source, key, "got " + describe_json(value) + ", " + expected);
       if (spec.kind == ParameterKind::Integer) return nlohmann::json(static_cast<long long>(number));
       return nlohmann::json(number);
     }
@@ -242,7 +335,7 @@ ParameterValues resolve_parameters(const std::vector<ParameterSpec>& specs, cons
                                    const std::string& source, const std::string& block_path,
                                    const std::set<std::string>& reserved_keys) {
   if (!block.is_null() && !block.is_object()) {
-    throw_input_error(source, block_path, "got " + json_type_name(block) + ", expected an object");
+    throw_input_error(source, block_path, "got " + describe_json(block) + ", expected an object");
   }
   const auto key_path = [&](const std::string& name) {
     return block_path.empty() ? name : block_path + "." + name;

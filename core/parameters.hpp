@@ -91,4 +91,8 @@ void check_all_read(const ParameterValues& values, const std::string& plugin);
 // A short description of a JSON value's type, for error messages ("a string", "an array").
 std::string json_type_name(const nlohmann::json& value);
 
+// A JSON value as error messages quote it: one line, at most 80 characters (longer values
+// and deep nesting are cut with "..."), invalid UTF-8 replaced.
+std::string describe_json(const nlohmann::json& value);
+
 }  // namespace mps_lab

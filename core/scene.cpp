@@ -1,11 +1,15 @@
 #include "core/scene.hpp"
 
 #include <cctype>
+#include <cerrno>
 #include <cmath>
+#include <cstring>
+#include <filesystem>
 #include <fstream>
 #include <sstream>
 
 #include "core/error.hpp"
+#include "core/geometry.hpp"
 #include "core/method.hpp"
 
 namespace mps_lab {
@@ -15,6 +19,16 @@ namespace {
 // Nominal limits beyond which a scene is "far outside what was tested" (spec §3 note:
 // the original C code had 10000 particles and 256 neighbours as fixed arrays).
 constexpr double kLargestLatticePoints = 5.0e7;
+// A run of more steps than this (end_time / time_step) is a typo, not an experiment: at the
+// fastest measured 0.1 ms per step it would take 12 days; 1e308 s would never end.
+constexpr double kMostTimeSteps = 1.0e10;
+// An output interval this much shorter than the time step is a typo (it would mean "every
+// step", which frame_every_steps = 1 says); the driver steps its next output time by the
+// interval, so 1e-300 s would loop for ever.
+constexpr double kShortestIntervalInSteps = 1.0e-3;
+// A scene nests 5 levels deep; anything deeper is refused while parsing, before a deep
+// value is printed or copied (both recurse once per level and could exhaust the stack).
+constexpr int kDeepestNesting = 32;
 
 std::vector<ParameterSpec> top_level_keys() {
   return {
@@ -75,6 +89,9 @@ std::vector<ParameterSpec> output_keys() {
                        "also write a series row at the first step at or after every multiple of this time (0: off)")
           .at_least(0.0),
       string_list_parameter("formats", {"csv", "vtk"}, "frame formats").one_of({"csv", "vtk"}),
+      integer_parameter("checkpoint_every_steps", 0,
+                        "write the full state to checkpoint.bin every N steps, for `mps_lab resume` (0: off)")
+          .at_least(0),
   };
 }
 
@@ -107,6 +124,62 @@ std::string join(const std::vector<std::string>& items) {
   return text;
 }
 
+std::string describe_point(const Vec2& point) { return describe_json(nlohmann::json::array({point.x(), point.y()})); }
+
+bool inside_box(const Vec2& point, const Box& box, double tolerance) {
+  return point.x() >= box.min.x() - tolerance && point.y() >= box.min.y() - tolerance &&
+         point.x() <= box.max.x() + tolerance && point.y() <= box.max.y() + tolerance;
+}
+
+// Parses JSON text with two checks nlohmann does not make: nesting deeper than
+// kDeepestNesting, and a key given twice in one object (nlohmann keeps the later value
+// without a word). Those are InputErrors naming `key_prefix` + the path inside the text;
+// invalid JSON throws nlohmann::json::exception for the caller to word.
+nlohmann::json parse_json(const std::string& text, const std::string& source, const std::string& key_prefix) {
+  struct Level {
+    bool is_object = false;
+    std::set<std::string> keys;  // objects: keys seen so far
+    std::string key;             // objects: the current key
+    long index = -1;             // arrays: the current element
+  };
+  std::vector<Level> levels;
+  const auto path_of = [&]() {
+    std::string path = key_prefix;
+    for (const auto& level : levels) {
+      if (!level.is_object) {
+        path += "[" + std::to_string(level.index) + "]";
+      } else if (!level.key.empty()) {
+        path += (path.empty() ? "" : ".") + level.key;
+      }
+    }
+    return path;
+  };
+  using Event = nlohmann::json::parse_event_t;
+  const auto check = [&](int depth, Event event, nlohmann::json& parsed) {
+    const bool starts = event == Event::object_start || event == Event::array_start;
+    if ((starts || event == Event::value) && !levels.empty() && !levels.back().is_object) ++levels.back().index;
+    if (starts) {
+      if (depth >= kDeepestNesting) {
+        std::string path = path_of();  // "description[0][0]...[0]" is named "description"
+        while (!path.empty() && path.back() == ']') path.erase(path.rfind('['));
+        throw_input_error(source, path, "got values nested deeper than " + std::to_string(kDeepestNesting) +
+                                                   " levels, expected at most the 5 of a scene");
+      }
+      levels.push_back({event == Event::object_start, {}, {}, -1});
+    } else if (event == Event::object_end || event == Event::array_end) {
+      levels.pop_back();
+    } else if (event == Event::key) {
+      const std::string& key = parsed.get_ref<const std::string&>();
+      levels.back().key = key;
+      if (!levels.back().keys.insert(key).second) {
+        throw_input_error(source, path_of(), "given twice in one object, expected each key once");
+      }
+    }
+    return true;
+  };
+  return nlohmann::json::parse(text, check);
+}
+
 const nlohmann::json& block_or_null(const nlohmann::json& document, const std::string& key) {
   static const nlohmann::json null_value;  // immutable
   return document.contains(key) ? document.at(key) : null_value;
@@ -116,7 +189,7 @@ std::vector<WallTreatmentChoice> resolve_wall_treatments(const MethodInfo& metho
                                                          const WallTreatmentRegistry& registry,
                                                          const std::string& source, const std::string& path) {
   if (!block.is_null() && !block.is_object()) {
-    throw_input_error(source, path, "got " + json_type_name(block) + ", expected an object of wall treatments");
+    throw_input_error(source, path, "got " + describe_json(block) + ", expected an object of wall treatments");
   }
   std::vector<WallTreatmentChoice> choices;
   // Treatments the scene names.
@@ -127,6 +200,9 @@ std::vector<WallTreatmentChoice> resolve_wall_treatments(const MethodInfo& metho
         std::vector<std::string> known;
         for (const auto* entry : registry.all()) known.push_back(entry->name);
         throw_input_error(source, path + "." + name, "unknown wall treatment (expected one of: " + join(known) + ")");
+      }
+      if (!settings.is_object()) {
+        throw_input_error(source, path + "." + name, "got " + describe_json(settings) + ", expected an object");
       }
     }
   }
@@ -160,7 +236,7 @@ std::vector<SceneBlockSpec> shared_scene_keys() {
   return {{"", top_level_keys()},     {"domain", domain_keys()},   {"walls", wall_keys()},
           {"fluid_blocks[]", fluid_block_keys()}, {"physics", physics_keys()}, {"time", time_keys()},
           {"output", output_keys()},  {"diagnostics", diagnostics_keys()},
-          {"diagnostics.pressure_sensors[]", pressure_sensor_keys()}};
+          {"diagnostics.pressure_sensors[]", pressure_sensor_keys()}, {"stability", stability_keys()}};
 }
 
 const MethodConfig& Scene::method_config(const std::string& name) const {
@@ -174,10 +250,19 @@ void apply_override(nlohmann::json& document, const std::string& assignment, con
   if (equals == std::string::npos || equals == 0) {
     throw_input_error("--set", assignment, "expected key=value, e.g. time.end_time=0.5");
   }
+  try {
+    (void)nlohmann::json(assignment).dump();  // the scene is stored in run.json: it must be UTF-8
+  } catch (const nlohmann::json::type_error&) {
+    throw_input_error("--set", describe_json(assignment), "expected UTF-8 text");
+  }
   const std::string key = assignment.substr(0, equals);
   const std::string text = assignment.substr(equals + 1);
-  nlohmann::json value = nlohmann::json::parse(text, nullptr, false);
-  if (value.is_discarded()) value = text;  // a bare word is a string
+  nlohmann::json value;
+  try {
+    value = parse_json(text, "--set", key);
+  } catch (const nlohmann::json::exception&) {
+    value = text;  // a bare word is a string
+  }
 
   nlohmann::json* node = &document;
   std::stringstream parts(key);
@@ -207,22 +292,34 @@ void apply_override(nlohmann::json& document, const std::string& assignment, con
 
 Scene load_scene(const std::string& path, const std::vector<std::string>& overrides,
                  const MethodRegistry& methods, const WallTreatmentRegistry& walls) {
-  std::ifstream file(path);
-  if (!file) throw_input_error(path, "", "cannot open the scene file");
+  std::error_code ignored;
+  if (std::filesystem::is_directory(path, ignored)) throw_input_error(path, "", "is a folder, expected a scene file");
+  std::ifstream file(path, std::ios::binary);
+  if (!file) throw_input_error(path, "", std::string("cannot open the scene file (") + std::strerror(errno) + ")");
   std::stringstream text;
   text << file.rdbuf();
+  if (file.bad()) throw_input_error(path, "", std::string("cannot read the scene file (") + std::strerror(errno) + ")");
+  return load_scene_text(text.str(), path, overrides, methods, walls);
+}
+
+Scene load_scene_text(const std::string& text, const std::string& source, const std::vector<std::string>& overrides,
+                      const MethodRegistry& methods, const WallTreatmentRegistry& walls) {
   nlohmann::json document;
   try {
-    document = nlohmann::json::parse(text.str());
-  } catch (const nlohmann::json::parse_error& error) {
-    // nlohmann's message is "[json.exception.parse_error.101] parse error at line 3, column 5: ..."
-    std::string message = error.what();
-    const auto colon = message.find("parse error");
-    throw_input_error(path, "", "not valid JSON: " + (colon == std::string::npos ? message : message.substr(colon)));
+    document = parse_json(text, source, "");
+  } catch (const nlohmann::json::exception& error) {
+    // "[json.exception.parse_error.101] parse error at line 3, column 5: ...", or
+    // "[json.exception.out_of_range.406] number overflow parsing '1e309'": keep what follows the id.
+    const std::string message = error.what();
+    const auto id_end = message.find("] ");
+    const std::string reason = id_end == std::string::npos ? message : message.substr(id_end + 2);
+    throw_input_error(source, "", "not valid JSON: " + reason);
   }
-  if (!document.is_object()) throw_input_error(path, "", "expected a JSON object at the top level");
-  for (const auto& assignment : overrides) apply_override(document, assignment, path);
-  return parse_scene(std::move(document), path, methods, walls);
+  if (!document.is_object()) {
+    throw_input_error(source, "", "got " + describe_json(document) + ", expected a JSON object at the top level");
+  }
+  for (const auto& assignment : overrides) apply_override(document, assignment, source);
+  return parse_scene(std::move(document), source, methods, walls);
 }
 
 Scene parse_scene(nlohmann::json document, const std::string& source, const MethodRegistry& methods,
@@ -231,8 +328,14 @@ Scene parse_scene(nlohmann::json document, const std::string& source, const Meth
   Scene scene;
   scene.source = source;
   const std::set<std::string> blocks = {"domain", "walls", "fluid_blocks", "physics", "time",
-                                        "output", "diagnostics", "methods"};
+                                        "output", "diagnostics", "stability", "methods"};
   const auto top = resolve_parameters(top_level_keys(), document, source, "", blocks);
+  // A block that is given must be an object: null is not "the defaults" (fluid_blocks: below).
+  for (const auto& name : blocks) {
+    if (name != "fluid_blocks" && document.contains(name) && !document.at(name).is_object()) {
+      throw_input_error(source, name, "got " + describe_json(document.at(name)) + ", expected an object");
+    }
+  }
   scene.description = top.string("description");
   scene.particle_spacing = top.number("particle_spacing");
   scene.method = top.string("method");
@@ -257,7 +360,7 @@ Scene parse_scene(nlohmann::json document, const std::string& source, const Meth
   }
   const auto& fluid = document.at("fluid_blocks");
   if (!fluid.is_array() || fluid.empty()) {
-    throw_input_error(source, "fluid_blocks", "got " + fluid.dump() + ", expected a non-empty array of blocks");
+    throw_input_error(source, "fluid_blocks", "got " + describe_json(fluid) + ", expected a non-empty array of blocks");
   }
   for (std::size_t k = 0; k < fluid.size(); ++k) {
     const std::string path = "fluid_blocks[" + std::to_string(k) + "]";
@@ -277,6 +380,7 @@ Scene parse_scene(nlohmann::json document, const std::string& source, const Meth
   scene.output.series_every_steps = output.integer("series_every_steps");
   scene.output.frame_interval = output.number("frame_interval");
   scene.output.series_interval = output.number("series_interval");
+  scene.output.checkpoint_every_steps = output.integer("checkpoint_every_steps");
   scene.output.csv = scene.output.vtk = false;
   for (const auto& format : output.string_list("formats")) {
     if (format == "csv") scene.output.csv = true;
@@ -292,7 +396,7 @@ Scene parse_scene(nlohmann::json document, const std::string& source, const Meth
   if (diagnostics_block.is_object() && diagnostics_block.contains("pressure_sensors")) {
     const auto& sensors = diagnostics_block.at("pressure_sensors");
     if (!sensors.is_array()) {
-      throw_input_error(source, "diagnostics.pressure_sensors", "got " + json_type_name(sensors) + ", expected an array");
+      throw_input_error(source, "diagnostics.pressure_sensors", "got " + describe_json(sensors) + ", expected an array");
     }
     std::set<std::string> names;
     for (std::size_t k = 0; k < sensors.size(); ++k) {
@@ -301,54 +405,109 @@ Scene parse_scene(nlohmann::json document, const std::string& source, const Meth
       const std::string& name = sensor.string("name");
       bool valid = !name.empty();
       for (char c : name) valid = valid && (std::isalnum(static_cast<unsigned char>(c)) || c == '_');
-      if (!valid) throw_input_error(source, path + ".name", "got \"" + name + "\", expected letters, digits and _");
-      if (!names.insert(name).second) throw_input_error(source, path + ".name", "duplicate sensor name \"" + name + "\"");
+      if (!valid) {
+        throw_input_error(source, path + ".name", "got " + describe_json(name) + ", expected letters, digits and _");
+      }
+      if (!names.insert(name).second) {
+        throw_input_error(source, path + ".name", "got " + describe_json(name) + ", expected a name no other sensor has");
+      }
       scene.diagnostics.pressure_sensors.push_back({name, sensor.vector2("position")});
     }
   }
+
+  scene.stability = stability_settings(
+      resolve_parameters(stability_keys(), block_or_null(document, "stability"), source, "stability"));
 
   // Geometry that makes sense.
   const double l0 = scene.particle_spacing;
   const Vec2 extent = scene.domain.max - scene.domain.min;
   if (!(extent.x() > 0.0 && extent.y() > 0.0)) {
-    throw_input_error(source, "domain", "max " + domain.to_json()["max"].dump() + " must exceed min " +
-                                            domain.to_json()["min"].dump() + " in x and y");
+    throw_input_error(source, "domain.max", "got " + describe_point(scene.domain.max) +
+                                                ", expected a point above and to the right of domain.min " +
+                                                describe_point(scene.domain.min));
+  }
+  if (!std::isfinite(extent.x()) || !std::isfinite(extent.y())) {
+    throw_input_error(source, "domain", "got min " + describe_point(scene.domain.min) + " and max " +
+                                            describe_point(scene.domain.max) + ", expected a finite width and height");
   }
   if (extent.x() / l0 * extent.y() / l0 > kLargestLatticePoints) {
-    throw_input_error(source, "particle_spacing", "got " + std::to_string(l0) + " m: the domain would hold more than " +
-                                                      "5e7 lattice points; expected a spacing for at most that");
+    throw_input_error(source, "particle_spacing",
+                      "got " + describe_json(l0) + ", expected a spacing that gives the domain (" +
+                          describe_json(extent.x()) + " x " + describe_json(extent.y()) +
+                          " m) at most 5e7 lattice points");
   }
   if (extent.x() < 4.0 * l0 || extent.y() < 4.0 * l0) {
-    throw_input_error(source, "particle_spacing", "got " + std::to_string(l0) +
-                                                      " m, expected at most a quarter of the domain's width and height");
+    throw_input_error(source, "particle_spacing",
+                      "got " + describe_json(l0) + ", expected at most a quarter of the domain's width and height (" +
+                          describe_json(extent.x()) + " x " + describe_json(extent.y()) + " m)");
   }
+  const std::string domain_text = describe_point(scene.domain.min) + " to " + describe_point(scene.domain.max);
+  // Blocks inside the domain cannot reach the wall layers, which lie on its sides and outside.
   for (std::size_t k = 0; k < scene.fluid_blocks.size(); ++k) {
     const Box& box = scene.fluid_blocks[k].region;
     const std::string path = "fluid_blocks[" + std::to_string(k) + "]";
     if (!(box.max.x() > box.min.x() && box.max.y() > box.min.y())) {
-      throw_input_error(source, path, "max must exceed min in x and y");
+      throw_input_error(source, path + ".max",
+                        "got " + describe_point(box.max) + ", expected a point above and to the right of " + path +
+                            ".min " + describe_point(box.min));
     }
     const double tolerance = 1e-9 * l0;
-    if (box.min.x() < scene.domain.min.x() - tolerance || box.min.y() < scene.domain.min.y() - tolerance ||
-        box.max.x() > scene.domain.max.x() + tolerance || box.max.y() > scene.domain.max.y() + tolerance) {
-      throw_input_error(source, path, "the block must lie inside the domain");
+    for (const auto& [corner, point] : {std::pair<const char*, Vec2>{".min", box.min}, {".max", box.max}}) {
+      if (!inside_box(point, scene.domain, tolerance)) {
+        throw_input_error(source, path + corner,
+                          "got " + describe_point(point) + ", expected a point inside the domain " + domain_text);
+      }
     }
   }
-  if (scene.time.time_step > scene.time.end_time && scene.time.end_time > 0.0) {
-    throw_input_error(source, "time.time_step", "got " + std::to_string(scene.time.time_step) +
-                                                    " s, expected at most time.end_time");
+  for (std::size_t k = 0; k < scene.diagnostics.pressure_sensors.size(); ++k) {
+    const Vec2& position = scene.diagnostics.pressure_sensors[k].position;
+    if (!inside_box(position, scene.domain, 0.0)) {
+      throw_input_error(source, "diagnostics.pressure_sensors[" + std::to_string(k) + "].position",
+                        "got " + describe_point(position) + ", expected a point inside the domain " + domain_text);
+    }
+  }
+  check_lattice(scene);  // the domain a whole number of spacings, a lattice point in every block
+
+  const double dt = scene.time.time_step;
+  if (dt > scene.time.end_time && scene.time.end_time > 0.0) {
+    throw_input_error(source, "time.time_step", "got " + describe_json(dt) + ", expected at most time.end_time (" +
+                                                    describe_json(scene.time.end_time) + " s)");
+  }
+  if (scene.time.end_time / dt > kMostTimeSteps) {
+    throw_input_error(source, "time.end_time", "got " + describe_json(scene.time.end_time) +
+                                                   ", expected at most 1e10 steps of time.time_step (" +
+                                                   describe_json(kMostTimeSteps * dt) + " s)");
+  }
+  const std::pair<const char*, double> intervals[] = {{"output.frame_interval", scene.output.frame_interval},
+                                                       {"output.series_interval", scene.output.series_interval}};
+  for (const auto& [key, interval] : intervals) {
+    if (interval > 0.0 && interval < kShortestIntervalInSteps * dt) {
+      throw_input_error(source, key,
+                        "got " + describe_json(interval) + ", expected 0 (off) or at least time.time_step / 1000 (" +
+                            describe_json(kShortestIntervalInSteps * dt) + " s)");
+    }
+  }
+  if (scene.output.directory.empty()) {
+    throw_input_error(source, "output.directory", "got \"\", expected a folder name");
   }
 
   // Method blocks: every block must belong to a registered method and is validated even
   // when another method runs, so a typo never waits for the day that block is used.
   const auto& method_blocks = block_or_null(document, "methods");
   if (!method_blocks.is_null() && !method_blocks.is_object()) {
-    throw_input_error(source, "methods", "got " + json_type_name(method_blocks) + ", expected an object");
+    throw_input_error(source, "methods", "got " + describe_json(method_blocks) + ", expected an object");
   }
   if (method_blocks.is_object()) {
     for (const auto& [name, block] : method_blocks.items()) {
       if (methods.find(name) == nullptr) {
         throw_input_error(source, "methods." + name, "unknown method (registered: " + join(methods.names()) + ")");
+      }
+      if (!block.is_object()) {
+        throw_input_error(source, "methods." + name, "got " + describe_json(block) + ", expected an object");
+      }
+      if (block.contains("wall_treatments") && !block.at("wall_treatments").is_object()) {
+        throw_input_error(source, "methods." + name + ".wall_treatments",
+                          "got " + describe_json(block.at("wall_treatments")) + ", expected an object of wall treatments");
       }
     }
   }

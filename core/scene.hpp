@@ -10,6 +10,7 @@
 #include <nlohmann/json.hpp>
 
 #include "core/parameters.hpp"
+#include "core/stability.hpp"
 #include "core/types.hpp"
 #include "core/wall_treatment.hpp"
 
@@ -51,6 +52,7 @@ struct OutputControl {
   long long series_every_steps = 10;   // rows of series.csv
   double frame_interval = 0.0;         // s; > 0: also a frame at the first step at or after each multiple
   double series_interval = 0.0;        // s; > 0: also a series row at the first step at or after each multiple
+  long long checkpoint_every_steps = 0;  // > 0: checkpoint.bin every N steps (core/checkpoint.hpp)
   bool csv = true;
   bool vtk = true;
 };
@@ -86,6 +88,7 @@ struct Scene {
   TimeControl time;
   OutputControl output;
   DiagnosticsControl diagnostics;
+  StabilitySettings stability;                 // the "stability" block (core/stability.hpp)
   std::string method;                          // the scene's default method
   std::map<std::string, MethodConfig> methods;  // one entry per registered method
   nlohmann::json document;                     // the JSON after --set overrides
@@ -97,6 +100,10 @@ struct Scene {
 // validates. Throws InputError.
 Scene load_scene(const std::string& path, const std::vector<std::string>& overrides,
                  const MethodRegistry& methods, const WallTreatmentRegistry& walls);
+// The same from the file's text; `source` names it in messages (the fuzz test feeds
+// thousands of malformed texts through the very path that reads files).
+Scene load_scene_text(const std::string& text, const std::string& source, const std::vector<std::string>& overrides,
+                      const MethodRegistry& methods, const WallTreatmentRegistry& walls);
 Scene parse_scene(nlohmann::json document, const std::string& source, const MethodRegistry& methods,
                   const WallTreatmentRegistry& walls);
 void apply_override(nlohmann::json& document, const std::string& assignment, const std::string& source);

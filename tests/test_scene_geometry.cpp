@@ -93,8 +93,10 @@ TEST_CASE("scene validation names the file and the key", "[scene][input]") {
              Catch::Contains("methods.mps.wall_treatments.wall_repulsion.strength: unknown key"));
   CHECK_THAT(error_of({"methods.sph={}"}), Catch::Contains("methods.sph: unknown method"));
   CHECK_THAT(error_of({"method=\"sph\""}), Catch::Contains("method: unknown method 'sph'"));
-  CHECK_THAT(error_of({"fluid_blocks.0.max=[1.5,0.5]"}), Catch::Contains("fluid_blocks[0]: the block must lie inside"));
-  CHECK_THAT(error_of({"domain.max=[0,0.6]"}), Catch::Contains("domain: max"));
+  CHECK_THAT(error_of({"fluid_blocks.0.max=[1.5,0.5]"}),
+             Catch::Contains("fluid_blocks[0].max: got [1.5,0.5], expected a point inside the domain [0.0,0.0] to [1.0,0.6]"));
+  CHECK_THAT(error_of({"domain.max=[0,0.6]"}),
+             Catch::Contains("domain.max: got [0.0,0.6], expected a point above and to the right of domain.min [0.0,0.0]"));
   CHECK_THAT(error_of({"walls.sides=[\"bottom\",\"front\"]"}), Catch::Contains("walls.sides"));
   CHECK_THAT(error_of({"output.frame_every_steps=0"}), Catch::Contains("output.frame_every_steps: got 0"));
   CHECK_THAT(error_of({"physics.gravity=[0]"}), Catch::Contains("physics.gravity: got [0], expected an array of two"));
