@@ -7,15 +7,17 @@
 
 The grid is method x particle spacing x time-step rule x solver tolerance (SPEC format in
 docs/speed-vs-accuracy.md; example: analysis/sweeps/dambreak.json). Every case is one
-`mps_lab run` into <out>/cases/<case>/. A case whose run.json says "completed" or "failed"
-is finished and is not run again, so an interrupted sweep resumes where it stopped.
+`mps_lab run` into <out>/cases/<case>/. A case whose run.json says "completed", "diverged",
+"solver_failed" or "failed" is finished and is not run again ("interrupted", "running" or no
+run.json: it runs again), so an interrupted sweep resumes where it stopped.
 Locally, cases run in parallel up to --parallel (default: the number of cores), each with
 OMP_NUM_THREADS = cores / parallel. The job list has one shell command per line, for GNU
 parallel or a Slurm array (`sed -n "${SLURM_ARRAY_TASK_ID}p" jobs.txt | bash`).
 
 Collected into <out>/sweep.csv, one row per case:
   cost:  wall_seconds, steps, fluid_particles, particle_steps_per_second, mean_solver_iterations
-  error: front_rms (Z against Martin & Moyce, unshifted), front_rms_shifted, front_best_shift,
+  error: front_rms (Z against Martin & Moyce, unshifted), front_rms_shifted, front_best_shift
+         (completed cases only: a stopped run's front is cut short),
          self_convergence (RMS of Z(T) - Z_ref(T) on T in [0, T_max] every 0.05, against the
          finest completed case of the same method with the same time-step rule and the
          tightest tolerance)
@@ -41,7 +43,9 @@ import mps_lab_data as data  # noqa: E402
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 DEFAULT_BINARY = os.path.join(ROOT, "build", "mps_lab")
-FINISHED = ("completed", "failed")
+# Statuses of run.json that end a case for good (docs/scene-format.md, `stability`): a
+# diverged or solver-failed run is an outcome to record, not an interruption to resume.
+FINISHED = ("completed", "diverged", "solver_failed", "failed")
 
 
 class SpecError(Exception):
@@ -126,14 +130,14 @@ def run_cases(cases: list[dict], spec: dict, out: str, binary: str, parallel: in
     print(f"sweep: {len(cases)} cases, {len(cases) - len(pending)} finished, running {len(pending)} "
           f"({parallel} at a time, {threads} thread(s) each)", flush=True)
 
-    def run(case: dict) -> tuple[str, int]:
+    def run(case: dict) -> tuple[dict, int]:
         result = subprocess.run(command_of(case, spec, out, binary, threads), shell=True, capture_output=True,
                                 text=True)
-        return case["name"], result.returncode
+        return case, result.returncode
 
     with concurrent.futures.ThreadPoolExecutor(max_workers=parallel) as pool:
-        for name, code in pool.map(run, pending):
-            print(f"sweep: {name}: {'done' if code == 0 else f'exit {code}'}", flush=True)
+        for case, code in pool.map(run, pending):
+            print(f"sweep: {case['name']}: {status_of(out, case)} (exit {code})", flush=True)
 
 
 def self_convergence(run: data.Run, reference: data.Run) -> float:
@@ -148,8 +152,33 @@ def self_convergence(run: data.Run, reference: data.Run) -> float:
     return float(math.sqrt(sum(d * d for d in differences) / len(differences)))
 
 
+def measure(folder: str, status: str) -> tuple[data.Run | None, dict]:
+    """A finished case's run and its cost; the front error against Martin & Moyce only when it
+    completed (a diverged or failed run's front ends early and its error means nothing)."""
+    try:
+        run = data.load_run(folder)
+    except (OSError, ValueError, KeyError, IndexError):
+        return None, {}
+    summary = run.summary
+    row = {
+        "wall_seconds": summary.get("wall_seconds", math.nan),
+        "steps": summary.get("steps", 0),
+        "fluid_particles": summary.get("particles", {}).get("fluid", 0),
+        "particle_steps_per_second": summary.get("fluid_particle_steps_per_second", math.nan),
+        "mean_solver_iterations": summary.get("solver", {}).get("mean_iterations", math.nan),
+        "front_rms": math.nan, "front_rms_shifted": math.nan, "front_best_shift": math.nan,
+    }
+    if status == "completed" and len(run.series.get("time", [])) > 1:
+        exp_t, exp_z = data.martin_moyce_front()
+        t, z = run.front_curve()
+        rms, _, points = data.curve_error(t, z, exp_t, exp_z)
+        if points:
+            shifted = data.best_shift_error(t, z, exp_t, exp_z)
+            row.update({"front_rms": rms, "front_rms_shifted": shifted[0], "front_best_shift": shifted[3]})
+    return run, row
+
+
 def collect(cases: list[dict], out: str) -> list[dict]:
-    exp_t, exp_z = data.martin_moyce_front()
     runs = {}
     rows = []
     for case in cases:
@@ -157,22 +186,10 @@ def collect(cases: list[dict], out: str) -> list[dict]:
         row = {key: case[key] for key in ("name", "method", "l0", "time_step_rule", "tolerance")}
         row["status"] = status_of(out, case)
         if row["status"] in FINISHED:
-            run = data.load_run(folder)
-            runs[case["name"]] = run
-            summary = run.summary
-            t, z = run.front_curve()
-            rms, _, points = data.curve_error(t, z, exp_t, exp_z)
-            shifted = data.best_shift_error(t, z, exp_t, exp_z)
-            row.update({
-                "wall_seconds": summary.get("wall_seconds", math.nan),
-                "steps": summary.get("steps", 0),
-                "fluid_particles": summary["particles"]["fluid"],
-                "particle_steps_per_second": summary.get("fluid_particle_steps_per_second", math.nan),
-                "mean_solver_iterations": summary.get("solver", {}).get("mean_iterations", math.nan),
-                "front_rms": rms if points else math.nan,
-                "front_rms_shifted": shifted[0] if points else math.nan,
-                "front_best_shift": shifted[3] if points else math.nan,
-            })
+            run, measured = measure(folder, row["status"])
+            if run is not None:
+                runs[case["name"]] = run
+            row.update(measured)
         rows.append(row)
     # Reference of each (method, time-step rule): the finest completed case, tightest
     # tolerance = first tolerance listed in the spec.

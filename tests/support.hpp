@@ -37,9 +37,10 @@ inline Scene parse(const std::string& json_text, const std::string& source = "in
   return parse_scene(nlohmann::json::parse(json_text), source, registries().methods, registries().walls);
 }
 
-// A fresh empty folder under the system temp dir.
+// A fresh empty folder for one test's output, under the build folder's test-output/
+// (MPS_LAB_TEST_OUTPUT_DIR), so that test runs of different build folders never share one.
 inline std::filesystem::path fresh_directory(const std::string& name) {
-  const auto path = std::filesystem::temp_directory_path() / ("mps_lab_test_" + name);
+  const auto path = std::filesystem::path(MPS_LAB_TEST_OUTPUT_DIR) / name;
   std::filesystem::remove_all(path);
   std::filesystem::create_directories(path);
   return path;
