@@ -70,11 +70,19 @@ int report_run(const RunResult& result, bool quiet) {
   return 0;
 }
 
+// A run or a resumed run: the registries, the stop handlers, the run, its report.
+int run_with_options(RunOptions options, bool quiet) {
+  const MethodRegistry methods = builtin_methods();
+  const WallTreatmentRegistry walls = builtin_wall_treatments();
+  options.progress = !quiet;
+  options.stop_reason = stop_reason;
+  install_stop_handlers();
+  return report_run(run_simulation(options, methods, walls), quiet);
+}
+
 }  // namespace
 
 int run_command(const RunCommand& command) {
-  const MethodRegistry methods = builtin_methods();
-  const WallTreatmentRegistry walls = builtin_wall_treatments();
   RunOptions options;
   options.scene_path = command.scene;
   options.method = command.method;
@@ -82,23 +90,15 @@ int run_command(const RunCommand& command) {
   options.overrides = command.set;
   options.end_time = command.end_time;
   options.checkpoint_every_steps = command.checkpoint_every;
-  options.progress = !command.quiet;
-  options.stop_reason = stop_reason;
-  install_stop_handlers();
-  return report_run(run_simulation(options, methods, walls), command.quiet);
+  return run_with_options(options, command.quiet);
 }
 
 int resume_command(const ResumeCommand& command) {
-  const MethodRegistry methods = builtin_methods();
-  const WallTreatmentRegistry walls = builtin_wall_treatments();
   RunOptions options;
   options.resume_directory = command.directory;
   options.end_time = command.end_time;
   options.checkpoint_every_steps = command.checkpoint_every;
-  options.progress = !command.quiet;
-  options.stop_reason = stop_reason;
-  install_stop_handlers();
-  return report_run(run_simulation(options, methods, walls), command.quiet);
+  return run_with_options(options, command.quiet);
 }
 
 namespace {
