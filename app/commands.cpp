@@ -182,13 +182,12 @@ int methods_command(bool with_parameters) {
                   spec.description.c_str());
     }
     for (const auto* wall : walls.all()) {
-      bool supported = false;
-      for (const auto& name : wall->methods) supported = supported || name == info->name;
-      if (!supported) continue;
+      if (!wall_treatment_supports(*wall, *info)) continue;
       bool default_on = false;
       for (const auto& name : info->default_wall_treatments) default_on = default_on || name == wall->name;
-      std::printf("    wall treatment %s (%s): %s\n", wall->name.c_str(), default_on ? "on by default" : "off by default",
-                  wall->description.c_str());
+      std::printf("    wall treatment %s (%s, %s): %s\n", wall->name.c_str(),
+                  wall->role == WallTreatmentRole::Boundary ? "boundary model" : "measure",
+                  default_on ? "on by default" : "off by default", wall->description.c_str());
       for (const auto& spec : wall->parameters) {
         std::printf("        .%s = %s %s  (%s) %s\n", spec.name.c_str(), spec.default_value.dump().c_str(),
                     spec.unit.c_str(), spec.range_text().c_str(), spec.description.c_str());

@@ -25,6 +25,7 @@
 #include <vector>
 
 #include "core/neighbour_search.hpp"
+#include "core/wall_samples.hpp"
 #include "core/particles.hpp"
 #include "core/types.hpp"
 
@@ -110,5 +111,10 @@ void read_particles(CheckpointReader& reader, ParticleSet& particles);
 // A neighbour list (offsets, indices, radius), for methods that keep one between steps.
 void write_neighbour_list(CheckpointWriter& writer, const NeighbourList& list);
 void read_neighbour_list(CheckpointReader& reader, NeighbourList& list);
+
+// The wall samples of a boundary model (core/wall_samples.hpp), for methods that keep them
+// with their neighbour list between steps.
+void write_wall_samples(CheckpointWriter& writer, const WallSampleList& samples);
+void read_wall_samples(CheckpointReader& reader, WallSampleList& samples);
 
 }  // namespace mps_lab

@@ -49,8 +49,21 @@ std::vector<std::string> series_columns(const MethodInfo& method, const Scene& s
   return columns;
 }
 
+namespace {
+
+// Wall particles exist only for a boundary model made of them (core/wall_treatment.hpp).
+bool wants_wall_particles(const Scene& scene, const MethodInfo& info) {
+  const WallTreatmentChoice* boundary = boundary_choice(scene.method_config(info.name).wall_treatments);
+  return boundary == nullptr || boundary->info->wall_particles;
+}
+
+}  // namespace
+
 Simulation::Simulation(const Scene& scene, const MethodInfo& info)
-    : scene_(scene), info_(info), particles_(build_particles(scene)), monitor_(scene, scene.stability) {
+    : scene_(scene),
+      info_(info),
+      particles_(build_particles(scene, wants_wall_particles(scene, info))),
+      monitor_(scene, scene.stability) {
   for (const auto& field : info.fields) particles_.add_field(field.name);
   const MethodConfig& config = scene.method_config(info.name);
   method_ = info.create(MethodSetup{scene, config.parameters, config.wall_treatments});
@@ -112,7 +125,7 @@ void read_report(CheckpointReader& in, StepReport& report) {
 
 void write_stability_state(CheckpointWriter& out, const StabilityState& state) {
   for (double value : {state.initial_energy, state.energy_scale, state.last_energy, state.last_courant,
-                       state.last_density_error}) {
+                       state.last_density_error, state.min_wall_distance}) {
     out.write_double(value);
   }
   out.write_size(state.initial_fluid);
@@ -133,7 +146,7 @@ void write_stability_state(CheckpointWriter& out, const StabilityState& state) {
 
 void read_stability_state(CheckpointReader& in, StabilityState& state) {
   for (double* value : {&state.initial_energy, &state.energy_scale, &state.last_energy, &state.last_courant,
-                        &state.last_density_error}) {
+                        &state.last_density_error, &state.min_wall_distance}) {
     *value = in.read_double();
   }
   state.initial_fluid = in.read_size();

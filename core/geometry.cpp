@@ -64,7 +64,7 @@ void check_lattice(const Scene& scene) {
   }
 }
 
-ParticleSet build_particles(const Scene& scene) {
+ParticleSet build_particles(const Scene& scene, bool wall_particles) {
   const double l0 = scene.particle_spacing;
   const Vec2 origin = scene.domain.min;
   const long long nx = whole_spacings(scene.domain.max.x() - origin.x(), l0, scene, "width");
@@ -77,7 +77,24 @@ ParticleSet build_particles(const Scene& scene) {
 
   ParticleSet particles;
 
-  // Fluid first: lattice points strictly inside any block (blocks may overlap).
+  // Obstacles in lattice indices (their corners are lattice points: the scene loader checks).
+  struct LatticeBox {
+    long long i0, j0, i1, j1;
+  };
+  std::vector<LatticeBox> obstacles;
+  for (const Box& box : scene.walls.obstacles) {
+    obstacles.push_back({std::llround((box.min.x() - origin.x()) / l0), std::llround((box.min.y() - origin.y()) / l0),
+                         std::llround((box.max.x() - origin.x()) / l0), std::llround((box.max.y() - origin.y()) / l0)});
+  }
+  const auto in_obstacle = [&](long long i, long long j) {
+    for (const auto& b : obstacles) {
+      if (i >= b.i0 && i <= b.i1 && j >= b.j0 && j <= b.j1) return true;
+    }
+    return false;
+  };
+
+  // Fluid first: lattice points strictly inside any block (blocks may overlap), outside the
+  // obstacles (an obstacle's lattice points are wall).
   std::set<std::pair<long long, long long>> fluid_points;
   const double eps = 1e-9 * l0;
   for (std::size_t k = 0; k < scene.fluid_blocks.size(); ++k) {
@@ -93,6 +110,7 @@ ParticleSet build_particles(const Scene& scene) {
         if (strictly_inside(x.x(), block.region.min.x(), block.region.max.x(), eps) &&
             strictly_inside(x.y(), block.region.min.y(), block.region.max.y(), eps)) {
           ++inside;
+          if (in_obstacle(i, j)) continue;
           if (fluid_points.insert({j, i}).second) {
             particles.add(x, block.velocity, ParticleType::Fluid);
           }
@@ -101,6 +119,7 @@ ParticleSet build_particles(const Scene& scene) {
     }
     if (inside == 0) throw_empty_block(scene, k);
   }
+  if (!wall_particles) return particles;  // the boundary model builds its own wall (wall samples)
 
   // Walls. Layer = 1 + how many spacings the point lies outside the fluid region along
   // the walled directions (Chebyshev distance), so corner blocks belong to outer layers.
@@ -114,10 +133,13 @@ ParticleSet build_particles(const Scene& scene) {
   };
   const long long i_min = walls.left ? -(layers - 1) : 0;
   const long long i_max = walls.right ? nx + layers - 1 : nx;
-  const auto add_wall = [&](long long i, long long j) {
+  std::set<std::pair<long long, long long>> wall_points;
+  const auto add_wall_in_layer = [&](long long i, long long j, std::uint8_t layer) {
     if (fluid_points.count({j, i}) != 0) return;  // a block reaching the wall keeps its fluid
-    particles.add(lattice(i, j), Vec2::Zero(), ParticleType::Wall, layer_of(i, j));
+    if (!wall_points.insert({j, i}).second) return;
+    particles.add(lattice(i, j), Vec2::Zero(), ParticleType::Wall, layer);
   };
+  const auto add_wall = [&](long long i, long long j) { add_wall_in_layer(i, j, layer_of(i, j)); };
   if (walls.bottom) {
     for (long long k = 0; k < layers; ++k) {
       for (long long i = i_min; i <= i_max; ++i) add_wall(i, -k);
@@ -134,6 +156,16 @@ ParticleSet build_particles(const Scene& scene) {
   if (walls.top) {
     for (long long k = 0; k < layers; ++k) {
       for (long long i = i_min; i <= i_max; ++i) add_wall(i, ny + k);
+    }
+  }
+  // Obstacles: `layers` layers from the box sides inwards (layer 1 on the sides), the core of
+  // a thick box left empty as the outer tank layers end; points the tank walls hold are theirs.
+  for (const auto& b : obstacles) {
+    for (long long j = b.j0; j <= b.j1; ++j) {
+      for (long long i = b.i0; i <= b.i1; ++i) {
+        const long long inward = std::min({i - b.i0, b.i1 - i, j - b.j0, b.j1 - j});
+        if (inward < layers) add_wall_in_layer(i, j, static_cast<std::uint8_t>(1 + inward));
+      }
     }
   }
   return particles;

@@ -17,8 +17,11 @@ namespace mps_lab {
 // loader calls it, so these errors come before anything runs.
 void check_lattice(const Scene& scene);
 
-// Throws the errors of check_lattice.
-ParticleSet build_particles(const Scene& scene);
+// Throws the errors of check_lattice. `wall_particles` false: fluid only, for boundary models
+// that represent the wall by samples (core/wall_samples.hpp). Obstacles (walls.obstacles)
+// get `layers` wall layers from their sides inwards; fluid lattice points inside them are
+// left out.
+ParticleSet build_particles(const Scene& scene, bool wall_particles = true);
 
 // The margin beyond the domain after which a fluid particle leaves the computation,
 // l0 (layers + 1) (spec §7.3).

@@ -82,6 +82,9 @@ struct MethodInfo {
   std::vector<FieldSpec> fields;
   std::vector<std::string> series_columns;         // method-specific statistics in series.csv
   std::vector<std::string> default_wall_treatments;  // enabled unless the scene says otherwise
+  // True when every operator of the method also sums over wall samples (core/wall_samples.hpp):
+  // the method then runs with every boundary model of wall samples, present and future.
+  bool wall_samples = false;
   std::function<std::unique_ptr<Method>(const MethodSetup&)> create;
 };
 
@@ -95,6 +98,11 @@ class MethodRegistry {
  private:
   std::map<std::string, MethodInfo> entries_;
 };
+
+// Whether a method may use a wall treatment: a boundary model of wall samples works with
+// every method whose operators sum over them (MethodInfo::wall_samples); any other treatment
+// names the methods it supports (WallTreatmentInfo::methods).
+bool wall_treatment_supports(const WallTreatmentInfo& wall, const MethodInfo& method);
 
 // Every method compiled into this build (generated from methods/*/).
 MethodRegistry builtin_methods();

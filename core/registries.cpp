@@ -65,7 +65,33 @@ WallTreatmentSet::WallTreatmentSet(const std::vector<WallTreatmentChoice>& choic
   for (const auto* choice : enabled) {
     members_.emplace_back(choice->info->name, choice->info->create({scene, choice->parameters}));
     check_all_read(choice->parameters, "wall treatment '" + choice->info->name + "'");
+    if (choice->info->role == WallTreatmentRole::Boundary) {
+      boundary_ = members_.back().second.get();
+      boundary_name_ = choice->info->name;
+      wall_particles_ = choice->info->wall_particles;
+      boundary_parameters_ = choice->parameters;
+    }
   }
+}
+
+void WallTreatmentSet::build_wall_samples(const WallContext& context, WallSampleList& samples) {
+  if (boundary_ == nullptr || wall_particles_) {
+    samples.clear();
+    return;
+  }
+  boundary_->build_wall_samples(context, samples);
+}
+
+bool wall_treatment_supports(const WallTreatmentInfo& wall, const MethodInfo& method) {
+  if (wall.role == WallTreatmentRole::Boundary && !wall.wall_particles && method.wall_samples) return true;
+  return std::find(wall.methods.begin(), wall.methods.end(), method.name) != wall.methods.end();
+}
+
+const WallTreatmentChoice* boundary_choice(const std::vector<WallTreatmentChoice>& choices) {
+  for (const auto& choice : choices) {
+    if (choice.enabled && choice.info->role == WallTreatmentRole::Boundary) return &choice;
+  }
+  return nullptr;
 }
 
 void WallTreatmentSet::after_explicit_velocity(WallContext& context) {

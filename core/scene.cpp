@@ -53,6 +53,13 @@ std::vector<ParameterSpec> wall_keys() {
   };
 }
 
+std::vector<ParameterSpec> obstacle_keys() {
+  return {
+      vector2_parameter("min", Vec2::Zero(), "m", "lower-left corner: a lattice point inside the domain").mandatory(),
+      vector2_parameter("max", Vec2::Zero(), "m", "upper-right corner: a lattice point inside the domain").mandatory(),
+  };
+}
+
 std::vector<ParameterSpec> fluid_block_keys() {
   return {
       vector2_parameter("min", Vec2::Zero(), "m", "lower-left corner of the water region").mandatory(),
@@ -192,6 +199,15 @@ std::vector<WallTreatmentChoice> resolve_wall_treatments(const MethodInfo& metho
     throw_input_error(source, path, "got " + describe_json(block) + ", expected an object of wall treatments");
   }
   std::vector<WallTreatmentChoice> choices;
+  // A boundary model the scene names and enables replaces the method's default one.
+  bool names_boundary = false;
+  if (block.is_object()) {
+    for (const auto& [name, settings] : block.items()) {
+      const WallTreatmentInfo* info = registry.find(name);
+      const bool off = settings.is_object() && settings.contains("enabled") && settings.at("enabled") == false;
+      if (info != nullptr && info->role == WallTreatmentRole::Boundary && !off) names_boundary = true;
+    }
+  }
   // Treatments the scene names.
   if (block.is_object()) {
     for (const auto& [name, settings] : block.items()) {
@@ -210,6 +226,7 @@ std::vector<WallTreatmentChoice> resolve_wall_treatments(const MethodInfo& metho
     const bool named = block.is_object() && block.contains(info->name);
     bool default_on = false;
     for (const auto& name : method.default_wall_treatments) default_on = default_on || name == info->name;
+    if (info->role == WallTreatmentRole::Boundary && names_boundary && !named) default_on = false;
     auto specs = info->parameters;
     specs.push_back(boolean_parameter("enabled", named || default_on, "switch the treatment on or off"));
     const std::string key = path + "." + info->name;
@@ -218,14 +235,39 @@ std::vector<WallTreatmentChoice> resolve_wall_treatments(const MethodInfo& metho
     choice.parameters = resolve_parameters(specs, named ? block.at(info->name) : nlohmann::json(), source, key);
     choice.enabled = choice.parameters.boolean("enabled");
     if (choice.enabled) {
-      bool supported = false;
-      for (const auto& name : info->methods) supported = supported || name == method.name;
+      const bool supported = wall_treatment_supports(*info, method);
       if (!supported) {
         throw_input_error(source, key, "wall treatment '" + info->name + "' does not support method '" +
-                                           method.name + "' (it supports: " + join(info->methods) + ")");
+                                           method.name + "' (it supports: " +
+                                           (info->methods.empty() ? std::string("methods that sum over wall samples")
+                                                                  : join(info->methods)) +
+                                           ")");
       }
     }
     if (named || default_on) choices.push_back(std::move(choice));
+  }
+  std::vector<std::string> boundaries;
+  for (const auto& choice : choices) {
+    if (choice.enabled && choice.info->role == WallTreatmentRole::Boundary) boundaries.push_back(choice.info->name);
+  }
+  // A method without a default boundary model (it reads the wall particles as it likes, e.g. a
+  // test method) may run without one; every other needs exactly one.
+  bool method_has_boundary_default = false;
+  for (const auto& name : method.default_wall_treatments) {
+    const WallTreatmentInfo* info = registry.find(name);
+    method_has_boundary_default = method_has_boundary_default || (info && info->role == WallTreatmentRole::Boundary);
+  }
+  if (boundaries.size() > 1 || (boundaries.empty() && method_has_boundary_default)) {
+    std::vector<std::string> supported;
+    for (const auto* info : registry.all()) {
+      if (info->role == WallTreatmentRole::Boundary && wall_treatment_supports(*info, method)) {
+        supported.push_back(info->name);
+      }
+    }
+    throw_input_error(source, path,
+                      "got " + std::to_string(boundaries.size()) + " boundary models" +
+                          (boundaries.empty() ? std::string() : " (" + join(boundaries) + ")") +
+                          ", expected exactly one of: " + join(supported));
   }
   return choices;
 }
@@ -234,7 +276,7 @@ std::vector<WallTreatmentChoice> resolve_wall_treatments(const MethodInfo& metho
 
 std::vector<SceneBlockSpec> shared_scene_keys() {
   return {{"", top_level_keys()},     {"domain", domain_keys()},   {"walls", wall_keys()},
-          {"fluid_blocks[]", fluid_block_keys()}, {"physics", physics_keys()}, {"time", time_keys()},
+          {"walls.obstacles[]", obstacle_keys()}, {"fluid_blocks[]", fluid_block_keys()}, {"physics", physics_keys()}, {"time", time_keys()},
           {"output", output_keys()},  {"diagnostics", diagnostics_keys()},
           {"diagnostics.pressure_sensors[]", pressure_sensor_keys()}, {"stability", stability_keys()}};
 }
@@ -345,7 +387,18 @@ Scene parse_scene(nlohmann::json document, const std::string& source, const Meth
   scene.domain.min = domain.vector2("min");
   scene.domain.max = domain.vector2("max");
 
-  const auto wall_block = resolve_parameters(wall_keys(), block_or_null(document, "walls"), source, "walls");
+  const auto& walls_json = block_or_null(document, "walls");
+  const auto wall_block = resolve_parameters(wall_keys(), walls_json, source, "walls", {"obstacles"});
+  if (walls_json.is_object() && walls_json.contains("obstacles")) {
+    const auto& obstacles = walls_json.at("obstacles");
+    if (!obstacles.is_array()) {
+      throw_input_error(source, "walls.obstacles", "got " + describe_json(obstacles) + ", expected an array of {min, max} boxes");
+    }
+    for (std::size_t k = 0; k < obstacles.size(); ++k) {
+      const auto box = resolve_parameters(obstacle_keys(), obstacles[k], source, "walls.obstacles[" + std::to_string(k) + "]");
+      scene.walls.obstacles.push_back({box.vector2("min"), box.vector2("max")});
+    }
+  }
   scene.walls.layers = static_cast<int>(wall_block.integer("layers"));
   scene.walls.bottom = scene.walls.left = scene.walls.right = scene.walls.top = false;
   for (const auto& side : wall_block.string_list("sides")) {
@@ -456,6 +509,29 @@ Scene parse_scene(nlohmann::json document, const std::string& source, const Meth
       if (!inside_box(point, scene.domain, tolerance)) {
         throw_input_error(source, path + corner,
                           "got " + describe_point(point) + ", expected a point inside the domain " + domain_text);
+      }
+    }
+  }
+  // Obstacles: boxes with lattice-point corners inside the domain (their wall particles sit on
+  // the lattice, their surfaces l0/2 outside the box: core/wall_geometry.hpp).
+  for (std::size_t k = 0; k < scene.walls.obstacles.size(); ++k) {
+    const Box& box = scene.walls.obstacles[k];
+    const std::string path = "walls.obstacles[" + std::to_string(k) + "]";
+    if (!(box.max.x() > box.min.x() && box.max.y() > box.min.y())) {
+      throw_input_error(source, path + ".max",
+                        "got " + describe_point(box.max) + ", expected a point above and to the right of " + path +
+                            ".min " + describe_point(box.min));
+    }
+    for (const auto& [corner, point] : {std::pair<const char*, Vec2>{".min", box.min}, {".max", box.max}}) {
+      if (!inside_box(point, scene.domain, 1e-9 * l0)) {
+        throw_input_error(source, path + corner,
+                          "got " + describe_point(point) + ", expected a point inside the domain " + domain_text);
+      }
+      const Vec2 steps = (point - scene.domain.min) / l0;
+      if (std::fabs(steps.x() - std::round(steps.x())) > 1e-6 || std::fabs(steps.y() - std::round(steps.y())) > 1e-6) {
+        throw_input_error(source, path + corner,
+                          "got " + describe_point(point) + ", expected a lattice point (domain.min + whole multiples of "
+                          "particle_spacing " + describe_json(l0) + " m)");
       }
     }
   }

@@ -28,6 +28,10 @@ struct Box {
 struct TankWalls {
   bool bottom = true, left = true, right = true, top = false;
   int layers = 3;
+  // Solid boxes inside the tank (walls.obstacles): corners on the lattice; a boundary model
+  // of wall particles fills each with `layers` layers from its surface inwards, the others
+  // take its four faces as wall segments (core/wall_geometry.hpp).
+  std::vector<Box> obstacles;
 };
 
 struct FluidBlock {

@@ -2,11 +2,13 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <cstdio>
 
 #include "core/diagnostics.hpp"
 #include "core/method.hpp"
 #include "core/scene.hpp"
+#include "core/wall_geometry.hpp"
 
 namespace mps_lab {
 
@@ -101,18 +103,14 @@ double stability_energy_scale(double initial_energy, double fluid_mass, double p
   return initial_energy + 0.5 * fluid_mass * reference_speed * reference_speed;
 }
 
+// Past the wall's first particle line: half a spacing beyond the surface (tank sides and
+// obstacles, core/wall_geometry.hpp); the same line for every boundary model.
 bool StabilityMonitor::beyond_a_wall(const Vec2& x) const {
-  const Box& d = scene_.domain;
-  const TankWalls& w = scene_.walls;
-  // A side wall spans the domain's height (its layers also cover the corners below).
-  const bool beside_side_walls = x.y() <= d.max.y();
-  const bool above_or_below = x.x() >= d.min.x() && x.x() <= d.max.x();
-  return (w.left && x.x() < d.min.x() && beside_side_walls) || (w.right && x.x() > d.max.x() && beside_side_walls) ||
-         (w.bottom && x.y() < d.min.y() && above_or_below) || (w.top && x.y() > d.max.y() && above_or_below);
+  return geometry_->depth_inside(x) > geometry_->surface_offset() * (1.0 + 1e-12);
 }
 
 StabilityMonitor::StabilityMonitor(const Scene& scene, StabilitySettings settings)
-    : scene_(scene), settings_(settings) {
+    : scene_(scene), geometry_(std::make_shared<const WallGeometry>(scene)), settings_(settings) {
   state_.counts.assign(stability_event_kinds().size(), 0);
 }
 
@@ -128,6 +126,13 @@ void StabilityMonitor::start(const ParticleSet& particles) {
   state_.initial_energy = mechanical_energy(particles, scene_);
   state_.last_energy = state_.initial_energy;
   state_.energy_scale = stability_energy_scale(state_.initial_energy, fluid_mass, l0, scene_.time.time_step);
+  state_.min_wall_distance = std::numeric_limits<double>::infinity();  // no wall at all: stays infinite
+  for (std::size_t i = 0; i < particles.size(); ++i) {
+    if (particles.type[i] != ParticleType::Fluid) continue;
+    const double depth = geometry_->depth_inside(particles.position[i]);
+    state_.min_wall_distance =
+        std::min(state_.min_wall_distance, depth > 0.0 ? -depth : geometry_->distance(particles.position[i]));
+  }
 }
 
 void StabilityMonitor::record(long long step, double time, std::size_t kind, const std::string& detail) {
@@ -170,6 +175,8 @@ void StabilityMonitor::check_step(const ParticleSet& particles, const StepReport
     }
     max_speed2 = std::max(max_speed2, u.squaredNorm());
     beyond_walls += beyond_a_wall(x) ? 1 : 0;
+    const double depth = geometry_->depth_inside(x);
+    state_.min_wall_distance = std::min(state_.min_wall_distance, depth > 0.0 ? -depth : geometry_->distance(x));
   }
 
   state_.last_courant = std::sqrt(max_speed2) * dt / l0;
@@ -312,6 +319,7 @@ nlohmann::json StabilityMonitor::summary() const {
           {"energy_scale", state_.energy_scale},
           {"final_energy", state_.last_energy},
           {"events_total", state_.events_total},
+          {"min_wall_distance_over_l0", state_.min_wall_distance / scene_.particle_spacing},
           {"counts", counts},
           {"first_event", first},
           {"events", log}};

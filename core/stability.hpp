@@ -26,6 +26,7 @@
 //                  physics); each escape is recorded as an event either way
 //   solver         a pressure solver stopped at its iteration cap above its tolerance
 #include <cstddef>
+#include <memory>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -36,6 +37,8 @@
 #include "core/particles.hpp"
 
 namespace mps_lab {
+
+class WallGeometry;
 
 struct Scene;
 struct StepReport;
@@ -84,6 +87,9 @@ struct StabilityState {
   double last_energy = 0.0;        // J/m, E after the last step
   double last_courant = 0.0;       // max |u| dt / l0 of the last step
   double last_density_error = 0.0; // at the last density check
+  // The smallest distance of a fluid particle from a wall surface over the run, m
+  // (core/wall_geometry.hpp; negative: that far past the surface).
+  double min_wall_distance = 0.0;
   std::size_t initial_fluid = 0;
   std::size_t ghosts = 0;          // ghosts after the last step
   std::size_t ghosts_through_walls = 0;  // of those, left through a wall
@@ -132,6 +138,7 @@ class StabilityMonitor {
   [[noreturn]] void stop(const std::string& status, long long step, double time, const std::string& reason) const;
 
   const Scene& scene_;
+  std::shared_ptr<const WallGeometry> geometry_;  // core/wall_geometry.hpp
   StabilitySettings settings_;
   StabilityState state_;
 };

@@ -50,14 +50,14 @@ TEST_CASE("MPS Laplacian is exact for quadratic fields on the lattice", "[mps][o
     const OperatorRadius radius = make_operator_radius(l0, re_over_l0 * l0, 0.01 * l0);
     const NeighbourList list = find_neighbours(p.position, p.type, radius.re);
     std::vector<Vec2> acceleration(p.size(), Vec2::Zero());
-    add_viscous_acceleration(p, list, radius, 1.0, acceleration);  // nu = 1: acceleration = lap u
+    add_viscous_acceleration(p, list, WallSampleList{}, radius, 1.0, acceleration);  // nu = 1: acceleration = lap u
     INFO("re = " << re_over_l0 << " l0");
     CHECK(acceleration[block.centre].x() == Approx(8.0).epsilon(1e-9));
     CHECK(acceleration[block.centre].y() == Approx(-2.0).epsilon(1e-9));
     // A linear field has zero Laplacian.
     for (std::size_t i = 0; i < p.size(); ++i) p.velocity[i] = Vec2(2 * p.position[i].x() - p.position[i].y(), 1.0);
     std::fill(acceleration.begin(), acceleration.end(), Vec2::Zero());
-    add_viscous_acceleration(p, list, radius, 1.0, acceleration);
+    add_viscous_acceleration(p, list, WallSampleList{}, radius, 1.0, acceleration);
     CHECK(acceleration[block.centre].norm() == Approx(0.0).margin(1e-9));
   }
 }
@@ -76,7 +76,7 @@ TEST_CASE("MPS gradient is exact for linear and quadratic fields on the lattice"
 
   for (std::size_t i = 0; i < p.size(); ++i) p.pressure[i] = 5000.0 + 3000.0 * p.position[i].x() - 9810.0 * p.position[i].y();
   for (bool include_self : {true, false}) {
-    pressure_acceleration(p, list, radius, carries, rho, include_self, acceleration);
+    pressure_acceleration(p, list, WallSampleList{}, radius, carries, rho, Vec2(0.0, -9.81), include_self, acceleration);
     // a = -grad P / rho = (-3, 9.81)
     CHECK(acceleration[block.centre].x() == Approx(-3.0).epsilon(1e-10));
     CHECK(acceleration[block.centre].y() == Approx(9.81).epsilon(1e-10));
@@ -86,7 +86,7 @@ TEST_CASE("MPS gradient is exact for linear and quadratic fields on the lattice"
     const Vec2 x = p.position[i];
     p.pressure[i] = 1.0e4 * (x.x() * x.x() + x.x() * x.y() + 2.0 * x.y() * x.y());
   }
-  pressure_acceleration(p, list, radius, carries, rho, true, acceleration);
+  pressure_acceleration(p, list, WallSampleList{}, radius, carries, rho, Vec2(0.0, -9.81), true, acceleration);
   const Vec2 exact = -1.0e4 / rho * Vec2(2 * centre.x() + centre.y(), centre.x() + 4 * centre.y());
   CHECK(acceleration[block.centre].x() == Approx(exact.x()).epsilon(1e-10));
   CHECK(acceleration[block.centre].y() == Approx(exact.y()).epsilon(1e-10));
@@ -98,7 +98,7 @@ TEST_CASE("number density of a full-support particle is n0", "[mps][operators]")
   const OperatorRadius radius = make_operator_radius(l0, 2.1 * l0, 0.01 * l0);
   const NeighbourList list = find_neighbours(block.particles.position, block.particles.type, radius.re);
   std::vector<double> n;
-  number_density(block.particles, list, radius, n);
+  number_density(block.particles, list, WallSampleList{}, radius, n);
   CHECK(n[block.centre] == Approx(radius.n0).epsilon(1e-12));
   // A corner particle of the block sees a quarter of the support plus the two half-axes.
   CHECK(n[0] < 0.5 * radius.n0);
@@ -120,7 +120,7 @@ TEST_CASE("PPE: CG agrees with a direct solve, and the system is symmetric posit
   const OperatorRadius radius = make_operator_radius(l0, 2.1 * l0, 0.01 * l0);
   const NeighbourList list = find_neighbours(particles.position, particles.type, radius.re);
   std::vector<double> n;
-  number_density(particles, list, radius, n);
+  number_density(particles, list, WallSampleList{}, radius, n);
   std::vector<char> carries(particles.size());
   for (std::size_t i = 0; i < particles.size(); ++i) {
     carries[i] = particles.type[i] == ParticleType::Fluid || particles.wall_layer[i] == 1;
@@ -131,7 +131,7 @@ TEST_CASE("PPE: CG agrees with a direct solve, and the system is symmetric posit
   settings.warm_start = false;
   std::vector<double> surface;
   PressurePoissonSolver solver;
-  const auto result = solver.solve(particles, list, n, carries, radius, radius.n0, 5e-4, settings, surface);
+  const auto result = solver.solve(particles, list, WallSampleList{}, n, carries, radius, radius.n0, 5e-4, settings, surface);
   REQUIRE(result.converged);
   REQUIRE(result.unknowns > 100);
   CHECK(result.ungrounded_groups == 0);
@@ -154,7 +154,7 @@ TEST_CASE("PPE: CG agrees with a direct solve, and the system is symmetric posit
   // Incomplete Cholesky preconditioning converges to the same solution in fewer iterations.
   settings.preconditioner = "incomplete_cholesky";
   PressurePoissonSolver ic_solver;
-  const auto ic = ic_solver.solve(particles, list, n, carries, radius, radius.n0, 5e-4, settings, surface);
+  const auto ic = ic_solver.solve(particles, list, WallSampleList{}, n, carries, radius, radius.n0, 5e-4, settings, surface);
   CHECK(ic.converged);
   CHECK(ic.iterations < result.iterations);
 }

@@ -130,7 +130,8 @@ TEST_CASE("overrides set nested keys and defaults come from the spec", "[scene]"
   for (const auto& choice : mps.wall_treatments) {
     if (choice.enabled) enabled.insert(choice.info->name);
   }
-  CHECK(enabled == std::set<std::string>{"cfl_velocity_clamp", "wall_repulsion", "wall_position_clamp", "particle_collision"});
+  CHECK(enabled == std::set<std::string>{"spec_wall_particles", "cfl_velocity_clamp", "wall_repulsion",
+                                         "wall_position_clamp", "particle_collision"});
   // And each can be switched off.
   const Scene off = load("dambreak.json", {"methods.mps.wall_treatments.particle_collision.enabled=false"});
   for (const auto& choice : off.method_config("mps").wall_treatments) {

@@ -6,6 +6,8 @@
 // Every fluid particle is updated from the velocities before any collision of this step
 // (Jacobi sweep), so the result does not depend on particle order or thread count; wall
 // particles do not move. Positions are not changed (the spec changes velocities only).
+// With a boundary model of wall samples the samples take the wall particles' part.
+#include <cmath>
 #include <vector>
 
 #include "core/scene.hpp"
@@ -40,6 +42,20 @@ class ParticleCollision final : public WallTreatment {
         const double approach = (before_[i] - before_[j]).dot(normal);
         if (approach <= 0.0) continue;
         change -= (1.0 + restitution_) * approach * 0.5 * normal;
+      }
+      // Wall samples (boundary models without wall particles) collide as wall particles do,
+      // with their own velocity (0, or a mirror image's reflected velocity).
+      if (context.samples != nullptr && context.samples->has_samples()) {
+        for (std::uint32_t k = context.samples->begin(i); k < context.samples->end(i); ++k) {
+          const WallSample& sample = context.samples->samples[k];
+          const Vec2 between = sample.position - particles.position[i];
+          const double r2 = between.squaredNorm();
+          if (r2 >= distance2 || r2 <= 0.0) continue;
+          const Vec2 normal = between / std::sqrt(r2);
+          const double approach = (before_[i] - sample.velocity_map * before_[sample.source]).dot(normal);
+          if (approach <= 0.0) continue;
+          change -= (1.0 + restitution_) * approach * 0.5 * normal;
+        }
       }
       particles.velocity[i] += change;
     }

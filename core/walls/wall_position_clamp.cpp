@@ -2,7 +2,12 @@
 // pressure correction, a fluid particle past a wall surface (offset l0 inside the wall's
 // first layer; spec: 0.5 l0) is put back on it and its wall-normal velocity is reversed
 // and damped, v_n <- -e v_n (e = restitution, spec 0.2). Walls are the tank sides the scene
-// lists; an open side (the top in the dam break) is not clamped.
+// lists; an open side (the top in the dam break) is not clamped. An obstacle (walls.obstacles)
+// is clamped the same way: a particle inside its box grown by the offset leaves it through
+// the nearest face.
+#include <algorithm>
+#include <vector>
+
 #include "core/scene.hpp"
 #include "core/wall_treatment.hpp"
 
@@ -16,6 +21,9 @@ class WallPositionClamp final : public WallTreatment {
     const double offset = setup.parameters.number("offset") * setup.scene.particle_spacing;
     low_ = setup.scene.domain.min + Vec2(offset, offset);
     high_ = setup.scene.domain.max - Vec2(offset, offset);
+    for (const Box& box : setup.scene.walls.obstacles) {
+      obstacles_.push_back({box.min - Vec2(offset, offset), box.max + Vec2(offset, offset)});
+    }
   }
 
   void after_explicit_position(WallContext& context) override { clamp(context.particles); }
@@ -45,11 +53,34 @@ class WallPositionClamp final : public WallTreatment {
         x.y() = high_.y();
         if (v.y() > 0.0) v.y() *= -restitution_;
       }
+      for (const Box& box : obstacles_) clamp_out_of(box, x, v);
+    }
+  }
+
+  void clamp_out_of(const Box& box, Vec2& x, Vec2& v) const {
+    if (!(x.x() > box.min.x() && x.x() < box.max.x() && x.y() > box.min.y() && x.y() < box.max.y())) return;
+    // Depth past each face; leave through the shallowest.
+    const double left = x.x() - box.min.x(), right = box.max.x() - x.x();
+    const double below = x.y() - box.min.y(), above = box.max.y() - x.y();
+    const double least = std::min({left, right, below, above});
+    if (least == above) {
+      x.y() = box.max.y();
+      if (v.y() < 0.0) v.y() *= -restitution_;
+    } else if (least == left) {
+      x.x() = box.min.x();
+      if (v.x() > 0.0) v.x() *= -restitution_;
+    } else if (least == right) {
+      x.x() = box.max.x();
+      if (v.x() < 0.0) v.x() *= -restitution_;
+    } else {
+      x.y() = box.min.y();
+      if (v.y() > 0.0) v.y() *= -restitution_;
     }
   }
 
   double restitution_;
   TankWalls walls_;
+  std::vector<Box> obstacles_;  // obstacle boxes grown by the offset, m
   Vec2 low_;   // m
   Vec2 high_;  // m
 };

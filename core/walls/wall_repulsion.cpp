@@ -2,7 +2,8 @@
 // wall particle j is pushed away, one-way (wall -> fluid):
 //   overlap = 1 - r / r_rep,  a = C overlap^2,  v_i += dt a (x_i - x_j) / r,
 // summed over the wall neighbours. The spec gives C = 196.2 = 0.5 |g| / l0 at l0 = 0.025 m;
-// the parameter is the factor 0.5 so that C follows l0 in resolution studies.
+// the parameter is the factor 0.5 so that C follows l0 in resolution studies. With a boundary
+// model of wall samples (core/wall_samples.hpp) the samples push as wall particles do.
 #include <cmath>
 
 #include "core/scene.hpp"
@@ -34,6 +35,15 @@ class WallRepulsion final : public WallTreatment {
         if (r >= distance_ || r <= 0.0) continue;
         const double overlap = 1.0 - r / distance_;
         push += coefficient_ * overlap * overlap * away / r;  // m/s^2
+      }
+      if (context.samples != nullptr && context.samples->has_samples()) {  // wall samples act as wall particles
+        for (std::uint32_t k = context.samples->begin(i); k < context.samples->end(i); ++k) {
+          const Vec2 away = particles.position[i] - context.samples->samples[k].position;
+          const double r = away.norm();
+          if (r >= distance_ || r <= 0.0) continue;
+          const double overlap = 1.0 - r / distance_;
+          push += coefficient_ * overlap * overlap * away / r;  // m/s^2
+        }
       }
       particles.velocity[i] += context.dt * push;
     }

@@ -33,9 +33,14 @@ class MpsMethod final : public Method {
     gradient_radius_ = make_operator_radius(l0, p.number("re_gradient") * l0, r_min);
     laplacian_radius_ = make_operator_radius(l0, p.number("re_laplacian") * l0, r_min);
     search_radius_ = std::max({density_radius_.re, gradient_radius_.re, laplacian_radius_.re});
-    pressure_wall_layers_ = static_cast<int>(p.integer("pressure_wall_layers"));
+    // spec_wall_particles: which wall layers carry pressure (the other boundary models have
+    // no wall particles; their wall samples carry extrapolated pressures).
+    if (walls_.wall_particles()) {
+      pressure_wall_layers_ = static_cast<int>(walls_.boundary_parameters().integer("pressure_layers"));
+    }
     min_includes_self_ = p.boolean("min_pressure_includes_self");
     settings_.density = scene_.physics.density;
+    settings_.gravity = scene_.physics.gravity;
     settings_.relaxation = p.number("relaxation");
     settings_.free_surface_threshold = p.number("free_surface_threshold");
     settings_.tolerance = p.number("cg_tolerance");
@@ -53,8 +58,9 @@ class MpsMethod final : public Method {
                              (particles.type[i] == ParticleType::Wall && particles.wall_layer[i] <= pressure_wall_layers_);
     }
     acceleration_.assign(n, Vec2::Zero());
-    search(particles);
-    number_density(particles, neighbours_, density_radius_, particles.field("number_density"));
+    WallContext context{particles, &neighbours_, 0.0, scene_};
+    search(particles, context);
+    number_density(particles, neighbours_, samples_, density_radius_, particles.field("number_density"));
   }
 
   double time_step(const ParticleSet&) const override { return scene_.time.time_step; }
@@ -63,6 +69,8 @@ class MpsMethod final : public Method {
     const std::size_t n = particles.size();
     const auto count = static_cast<std::ptrdiff_t>(n);
     WallContext context{particles, &neighbours_, dt, scene_};
+    context.samples = &samples_;
+    context.support = search_radius_;
 
     // --- 5.1 explicit step -------------------------------------------------------------
     const Vec2 gravity = scene_.physics.gravity;
@@ -72,8 +80,8 @@ class MpsMethod final : public Method {
       if (particles.type[i] == ParticleType::Fluid) acceleration_[i] = gravity;  // 5.1-1
     }
     if (scene_.physics.kinematic_viscosity > 0.0) {  // 5.1-2 (costs nothing when nu = 0)
-      add_viscous_acceleration(particles, neighbours_, laplacian_radius_, scene_.physics.kinematic_viscosity,
-                               acceleration_);
+      add_viscous_acceleration(particles, neighbours_, samples_, laplacian_radius_,
+                               scene_.physics.kinematic_viscosity, acceleration_);
     }
 #pragma omp parallel for schedule(static)
     for (std::ptrdiff_t i = 0; i < count; ++i) {
@@ -88,16 +96,16 @@ class MpsMethod final : public Method {
     walls_.after_explicit_position(context);  // 5.1-7 position clamp
 
     // --- 5.2 implicit step -------------------------------------------------------------
-    search(particles);                        // 5.2-1
+    search(particles, context);               // 5.2-1 (and the wall samples at r*)
     walls_.after_neighbour_search(context);   // 5.2-2 repulsion, 5.2-3 collision
     auto& n_star = particles.field("number_density");
-    number_density(particles, neighbours_, density_radius_, n_star);  // 5.2-4
+    number_density(particles, neighbours_, samples_, density_radius_, n_star);  // 5.2-4
     const PressureSolveResult solve =                                  // 5.2-5 .. 5.2-7
-        ppe_.solve(particles, neighbours_, n_star, carries_pressure_, laplacian_radius_, density_radius_.n0, dt,
-                   settings_, particles.field("free_surface"));
+        ppe_.solve(particles, neighbours_, samples_, n_star, carries_pressure_, laplacian_radius_, density_radius_.n0,
+                   dt, settings_, particles.field("free_surface"));
     if (!solve.converged) ++nonconverged_solves_;  // the stability monitor records it (StepReport)
-    pressure_acceleration(particles, neighbours_, gradient_radius_, carries_pressure_, scene_.physics.density,
-                          min_includes_self_, acceleration_);
+    pressure_acceleration(particles, neighbours_, samples_, gradient_radius_, carries_pressure_,
+                          scene_.physics.density, scene_.physics.gravity, min_includes_self_, acceleration_);
 #pragma omp parallel for schedule(static)
     for (std::ptrdiff_t i = 0; i < count; ++i) {  // 5.2-8
       if (particles.type[i] != ParticleType::Fluid) continue;
@@ -146,6 +154,7 @@ class MpsMethod final : public Method {
             {"gradient_radius", radius_json(gradient_radius_)},
             {"laplacian_radius", radius_json(laplacian_radius_)},
             {"wall_treatments", walls_.names()},
+            {"boundary_model", walls_.boundary_name()},
             {"ghosts_created", ghosts_},
             {"ungrounded_groups_regularised", ungrounded_groups_},
             {"nonconverged_solves", nonconverged_solves_}};
@@ -158,6 +167,7 @@ class MpsMethod final : public Method {
   // particles.pressure.
   void save_state(CheckpointWriter& out) const override {
     write_neighbour_list(out, neighbours_);
+    write_wall_samples(out, samples_);
     out.write_chars(carries_pressure_);
     out.write_int(total_iterations_);
     out.write_int(steps_);
@@ -168,6 +178,7 @@ class MpsMethod final : public Method {
 
   void restore_state(CheckpointReader& in) override {
     read_neighbour_list(in, neighbours_);
+    read_wall_samples(in, samples_);
     carries_pressure_ = in.read_chars();
     total_iterations_ = in.read_int();
     steps_ = in.read_int();
@@ -181,9 +192,12 @@ class MpsMethod final : public Method {
   }
 
  private:
-  void search(const ParticleSet& particles) {
+  // Neighbours within the largest radius, then the boundary model's wall samples there.
+  void search(const ParticleSet& particles, WallContext& context) {
     cells_.build(particles.position, particles.type, search_radius_);
     cells_.find_neighbours(particles.position, particles.type, search_radius_, neighbours_);
+    context.support = search_radius_;
+    walls_.build_wall_samples(context, samples_);
   }
 
   static void fix_walls(ParticleSet& particles) {  // spec §7: wall velocity (and acceleration) zero
@@ -203,6 +217,7 @@ class MpsMethod final : public Method {
   std::vector<Vec2> acceleration_;  // m/s^2
   CellList cells_;
   NeighbourList neighbours_;
+  WallSampleList samples_;  // of the boundary model, at the positions of the last search
   PressurePoissonSolver ppe_;
   long long total_iterations_ = 0;
   long long steps_ = 0;
@@ -237,17 +252,15 @@ void mps_lab_register_method_mps(mps_lab::MethodRegistry& registry) {
           .below(1.0),
       string_parameter("preconditioner", "jacobi", "CG preconditioner").one_of({"jacobi", "incomplete_cholesky"}),
       boolean_parameter("warm_start", true, "start CG from the previous step's pressure"),
-      integer_parameter("pressure_wall_layers", 1,
-                        "wall layers (counted from the fluid) that carry pressure; outer layers only fill n")
-          .at_least(0)
-          .at_most(10),
       boolean_parameter("min_pressure_includes_self", true, "P_min of the gradient includes particle i (K&O 1996)"),
       boolean_parameter("clamp_negative_pressure", true, "set P < 0 to 0 after the solve (spec §5.2-7)"),
   };
   info.fields = {{"number_density", "", "n* at the provisional positions (spec §5.2-4)", true},
                  {"free_surface", "", "1 where n*/n0 < free_surface_threshold (P = 0)", true}};
   info.series_columns = {"number_density_error", "free_surface_particles", "ppe_unknowns", "ungrounded_groups"};
-  info.default_wall_treatments = {"cfl_velocity_clamp", "wall_repulsion", "wall_position_clamp", "particle_collision"};
+  info.default_wall_treatments = {"spec_wall_particles", "cfl_velocity_clamp", "wall_repulsion", "wall_position_clamp",
+                                 "particle_collision"};
+  info.wall_samples = true;
   info.create = [](const MethodSetup& setup) { return std::make_unique<mps::MpsMethod>(setup); };
   registry.add(std::move(info));
 }

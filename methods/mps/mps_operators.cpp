@@ -10,8 +10,9 @@ OperatorRadius make_operator_radius(double spacing, double re, double r_min) {
   return {re, r_min, lattice.number_density, lattice.lambda};
 }
 
-void number_density(const ParticleSet& particles, const NeighbourList& neighbours, const OperatorRadius& radius,
-                    std::vector<double>& out) {
+void number_density(const ParticleSet& particles, const NeighbourList& neighbours, const WallSampleList& samples,
+                    const OperatorRadius& radius, std::vector<double>& out) {
+  const bool with_samples = samples.has_samples();
   const auto n = static_cast<std::ptrdiff_t>(particles.size());
   out.resize(particles.size());
 #pragma omp parallel for schedule(static)
@@ -23,14 +24,21 @@ void number_density(const ParticleSet& particles, const NeighbourList& neighbour
         if (particles.type[j] == ParticleType::Ghost) continue;
         sum += mps_weight((particles.position[j] - particles.position[i]).norm(), radius.re, radius.r_min);
       }
+      if (with_samples) {
+        for (std::uint32_t k = samples.begin(i); k < samples.end(i); ++k) {
+          const WallSample& wall = samples.samples[k];
+          sum += wall.volume * mps_weight((wall.position - particles.position[i]).norm(), radius.re, radius.r_min);
+        }
+      }
     }
     out[i] = sum;
   }
 }
 
 void add_viscous_acceleration(const ParticleSet& particles, const NeighbourList& neighbours,
-                              const OperatorRadius& radius, double kinematic_viscosity,
-                              std::vector<Vec2>& acceleration) {
+                              const WallSampleList& samples, const OperatorRadius& radius,
+                              double kinematic_viscosity, std::vector<Vec2>& acceleration) {
+  const bool with_samples = samples.has_samples();
   const double coefficient = kinematic_viscosity * 2.0 * kDimension / (radius.n0 * radius.lambda);  // 1/s
   const auto n = static_cast<std::ptrdiff_t>(particles.size());
 #pragma omp parallel for schedule(static)
@@ -43,13 +51,22 @@ void add_viscous_acceleration(const ParticleSet& particles, const NeighbourList&
       const double w = mps_weight((particles.position[j] - particles.position[i]).norm(), radius.re, radius.r_min);
       sum += (particles.velocity[j] - particles.velocity[i]) * w;
     }
+    if (with_samples) {
+      for (std::uint32_t k = samples.begin(i); k < samples.end(i); ++k) {
+        const WallSample& wall = samples.samples[k];
+        const double w = mps_weight((wall.position - particles.position[i]).norm(), radius.re, radius.r_min);
+        sum += wall.volume * (sample_velocity(wall, particles.velocity) - particles.velocity[i]) * w;
+      }
+    }
     acceleration[i] += coefficient * sum;
   }
 }
 
 void pressure_acceleration(const ParticleSet& particles, const NeighbourList& neighbours,
-                           const OperatorRadius& radius, const std::vector<char>& carries_pressure,
-                           double density, bool min_includes_self, std::vector<Vec2>& acceleration) {
+                           const WallSampleList& samples, const OperatorRadius& radius,
+                           const std::vector<char>& carries_pressure, double density, const Vec2& gravity,
+                           bool min_includes_self, std::vector<Vec2>& acceleration) {
+  const bool with_samples = samples.has_samples();
   const double coefficient = kDimension / radius.n0;
   const double r_min2 = radius.r_min * radius.r_min;
   const auto n = static_cast<std::ptrdiff_t>(particles.size());
@@ -66,6 +83,13 @@ void pressure_acceleration(const ParticleSet& particles, const NeighbourList& ne
       if ((particles.position[j] - xi).norm() >= radius.re) continue;
       p_min = std::min(p_min, particles.pressure[j]);
     }
+    if (with_samples) {
+      for (std::uint32_t k = samples.begin(i); k < samples.end(i); ++k) {
+        const WallSample& wall = samples.samples[k];
+        if ((wall.position - xi).norm() >= radius.re) continue;
+        p_min = std::min(p_min, sample_pressure(wall, particles.pressure, particles.position, density, gravity));
+      }
+    }
     Vec2 gradient = Vec2::Zero();  // Pa/m
     for (std::uint32_t k = neighbours.begin(i); k < neighbours.end(i); ++k) {
       const std::uint32_t j = neighbours.indices[k];
@@ -75,6 +99,17 @@ void pressure_acceleration(const ParticleSet& particles, const NeighbourList& ne
       const double w = mps_weight(r, radius.re, radius.r_min);
       if (w == 0.0) continue;
       gradient += (particles.pressure[j] - p_min) / std::max(r * r, r_min2) * w * r_ij;
+    }
+    if (with_samples) {
+      for (std::uint32_t k = samples.begin(i); k < samples.end(i); ++k) {
+        const WallSample& wall = samples.samples[k];
+        const Vec2 r_iw = wall.position - xi;
+        const double r = r_iw.norm();
+        const double w = mps_weight(r, radius.re, radius.r_min);
+        if (w == 0.0) continue;
+        const double p_w = sample_pressure(wall, particles.pressure, particles.position, density, gravity);
+        gradient += wall.volume * (p_w - p_min) / std::max(r * r, r_min2) * w * r_iw;
+      }
     }
     acceleration[i] = -(coefficient / density) * gradient;
   }

@@ -8,6 +8,7 @@
 #include "core/kernels.hpp"
 #include "core/neighbour_search.hpp"
 #include "core/particles.hpp"
+#include "core/wall_samples.hpp"
 
 namespace mps_lab::mps {
 
@@ -22,21 +23,30 @@ struct OperatorRadius {
 };
 OperatorRadius make_operator_radius(double spacing, double re, double r_min);
 
-// n_i = sum_j w(|r_j - r_i|, re) over every non-ghost neighbour (spec §2, PND).
-void number_density(const ParticleSet& particles, const NeighbourList& neighbours, const OperatorRadius& radius,
-                    std::vector<double>& out);
+// Every operator also sums over the wall samples of i when the boundary model has them
+// (core/wall_samples.hpp; an empty list adds nothing): a sample is a neighbour of volume V_w
+// (its weight counts V_w times), velocity u_w and pressure p_w.
+
+// n_i = sum_j w(|r_j - r_i|, re) + sum_w V_w w(|r_w - r_i|, re) over every non-ghost
+// neighbour and wall sample (spec §2, PND; the sample sum is Harada et al. 2008's wall weight
+// for the distance-function wall).
+void number_density(const ParticleSet& particles, const NeighbourList& neighbours, const WallSampleList& samples,
+                    const OperatorRadius& radius, std::vector<double>& out);
 
 // <lap u>_i = (2d / (n0 lambda)) sum_j (u_j - u_i) w_ij (spec §2), for fluid particles,
-// over every non-ghost neighbour (walls have u = 0). Adds nu <lap u>_i to acceleration.
+// over every non-ghost neighbour (walls have u = 0) and wall sample (u_w). Adds nu <lap u>_i
+// to acceleration.
 void add_viscous_acceleration(const ParticleSet& particles, const NeighbourList& neighbours,
-                              const OperatorRadius& radius, double kinematic_viscosity,
-                              std::vector<Vec2>& acceleration);
+                              const WallSampleList& samples, const OperatorRadius& radius,
+                              double kinematic_viscosity, std::vector<Vec2>& acceleration);
 
 // <grad P>_i = (d/n0) sum_j (P_j - P_min,i) / |r_ij|^2 r_ij w_ij (spec §2), for fluid
 // particles, over neighbours with carries_pressure[j]; P_min,i is the minimum pressure over
-// those neighbours, and over i itself when `min_includes_self`. Writes -(1/rho) <grad P>_i.
+// those neighbours, and over i itself when `min_includes_self`; wall samples enter both with
+// p_w = p_s + rho g . (x_w - x_s). Writes -(1/rho) <grad P>_i.
 void pressure_acceleration(const ParticleSet& particles, const NeighbourList& neighbours,
-                           const OperatorRadius& radius, const std::vector<char>& carries_pressure,
-                           double density, bool min_includes_self, std::vector<Vec2>& acceleration);
+                           const WallSampleList& samples, const OperatorRadius& radius,
+                           const std::vector<char>& carries_pressure, double density, const Vec2& gravity,
+                           bool min_includes_self, std::vector<Vec2>& acceleration);
 
 }  // namespace mps_lab::mps

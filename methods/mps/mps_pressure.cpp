@@ -44,6 +44,7 @@ void run_cg(Solver& solver, const Eigen::SparseMatrix<double, Eigen::RowMajor>& 
 }  // namespace
 
 PressureSolveResult PressurePoissonSolver::solve(ParticleSet& particles, const NeighbourList& neighbours,
+                                                 const WallSampleList& samples,
                                                  const std::vector<double>& number_density,
                                                  const std::vector<char>& carries_pressure,
                                                  const OperatorRadius& laplacian, double n0, double dt,
@@ -94,13 +95,30 @@ PressureSolveResult PressurePoissonSolver::solve(ParticleSet& particles, const N
         grounded[static_cast<std::size_t>(row)] = 1;  // a Dirichlet (P = 0) neighbour
       }
     }
+    double wall_part = 0.0;  // known part of the wall samples' Laplacian terms, moved to b_i
+    if (samples.has_samples()) {
+      for (std::uint32_t k = samples.begin(i); k < samples.end(i); ++k) {
+        const WallSample& wall = samples.samples[k];
+        const double a = coefficient * wall.volume *
+                         mps_weight((wall.position - particles.position[i]).norm(), laplacian.re, laplacian.r_min);
+        if (a == 0.0) continue;
+        wall_part += a * sample_pressure_offset(wall, particles.position, settings.density, settings.gravity);
+        if (wall.source == i) continue;  // p_i - p_i
+        diagonal += a;
+        if (row_of_[wall.source] >= 0) {
+          triplets_.emplace_back(static_cast<int>(row), row_of_[wall.source], -a);
+        } else {
+          grounded[static_cast<std::size_t>(row)] = 1;  // the image of a Dirichlet particle
+        }
+      }
+    }
     if (diagonal == 0.0) {  // isolated: no pressure-carrying neighbour at all
       diagonal = 1.0;
       grounded[static_cast<std::size_t>(row)] = 1;
     }
     triplets_.emplace_back(static_cast<int>(row), static_cast<int>(row), diagonal);
     // b_i = relaxation (rho/dt^2) (n*_i - n0)/n0   [sign: A = -<lap>]
-    rhs_[row] = source * (number_density[i] - n0) / n0;
+    rhs_[row] = source * (number_density[i] - n0) / n0 + wall_part;
     guess_[row] = particles.pressure[i];
   }
   matrix_.resize(unknowns, unknowns);

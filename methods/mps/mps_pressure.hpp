@@ -21,6 +21,7 @@ namespace mps_lab::mps {
 
 struct PressureSolveSettings {
   double density = 1000.0;               // kg/m^3
+  Vec2 gravity = Vec2(0.0, -9.81);       // m/s^2 (hydrostatic part of wall-sample pressures)
   double relaxation = 0.2;               // spec §3
   double free_surface_threshold = 0.97;  // beta: surface if n*/n0 < beta
   double tolerance = 1.0e-8;             // relative residual ||b - A p|| / ||b||
@@ -44,7 +45,11 @@ class PressurePoissonSolver {
   // Sets particles.pressure for every pressure-carrying particle (0 on the surface) and
   // free_surface[i] = 1 for surface particles. `n0` is the number-density constant of the
   // source term, `laplacian` the radius and constants of the Laplacian model.
-  PressureSolveResult solve(ParticleSet& particles, const NeighbourList& neighbours,
+  // Wall samples (core/wall_samples.hpp) add a_iw (p_s + rho g.(x_w - x_s) - p_i) to the
+  // Laplacian of row i: for s = i only the known hydrostatic part remains (right-hand side),
+  // for a mirror image of j the row couples to j (symmetric: the image of i seen from j has
+  // the same weight), and a Dirichlet source leaves its constant part.
+  PressureSolveResult solve(ParticleSet& particles, const NeighbourList& neighbours, const WallSampleList& samples,
                             const std::vector<double>& number_density, const std::vector<char>& carries_pressure,
                             const OperatorRadius& laplacian, double n0, double dt,
                             const PressureSolveSettings& settings, std::vector<double>& free_surface);
