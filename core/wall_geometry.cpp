@@ -50,7 +50,8 @@ WallGeometry::WallGeometry(const Scene& scene)
     if (segment.body >= 0) {
       buried = !strictly_inside_box(probe, interior_) && depth_inside(probe) > 0.0;
     }
-    for (std::size_t k = 0; k < obstacles_.size() && !buried; ++k) {
+    // (Tank sides stay whole: an obstacle on the bed covers part of the bed, not all of it.)
+    for (std::size_t k = 0; k < obstacles_.size() && !buried && segment.body >= 0; ++k) {
       if (static_cast<int>(k) != segment.body && strictly_inside_box(probe, obstacles_[k])) buried = true;
     }
     if (!buried) segments_.push_back(segment);
