@@ -63,9 +63,14 @@ double WallGeometry::depth_inside(const Vec2& x) const {
   // Tank: behind a walled side's surface, unless past an open side (above an open top).
   const bool past_open = (!walls_.left && x.x() < domain_.min.x()) || (!walls_.right && x.x() > domain_.max.x()) ||
                          (!walls_.bottom && x.y() < domain_.min.y()) || (!walls_.top && x.y() > domain_.max.y());
+  // A tank side is a slab `layers` spacings thick (its wall particles): a particle beyond its
+  // outer face went over the crest and lies outside the tank, not in the wall.
+  const double thickness = walls_.layers * 2.0 * half_spacing_;
   if (!past_open) {
-    depth = std::max({depth, interior_.min.x() - x.x(), x.x() - interior_.max.x(), interior_.min.y() - x.y(),
-                      x.y() - interior_.max.y()});
+    for (const double d : {interior_.min.x() - x.x(), x.x() - interior_.max.x(), interior_.min.y() - x.y(),
+                           x.y() - interior_.max.y()}) {
+      if (d < thickness) depth = std::max(depth, d);
+    }
   }
   for (const Box& s : obstacles_) {
     if (strictly_inside_box(x, s)) {

@@ -33,8 +33,8 @@ class WallGeometry {
   const std::vector<WallSegment>& segments() const { return segments_; }
   double surface_offset() const { return half_spacing_; }  // l0 / 2, m
 
-  // Whether x lies beyond a wall surface: behind a tank side (not past an open side) or
-  // inside an obstacle's surface box.
+  // Whether x lies beyond a wall surface: behind a tank side (within the side's `layers`
+  // spacings of thickness, and not past an open side) or inside an obstacle's surface box.
   bool inside_solid(const Vec2& x) const;
   // How far x lies beyond the wall surface, m (0 on the fluid side). The first wall particle
   // line is at depth l0/2: a fluid particle deeper than that has penetrated the wall.

@@ -25,7 +25,9 @@ TEST_CASE("DFSPH declares its statistics and reports the density solve as the ma
   CHECK(dfsph().series_columns ==
         std::vector<std::string>{"divergence_iterations", "divergence_error", "density_iterations", "density_error",
                                  "compression"});
-  CHECK(dfsph().default_wall_treatments.empty());  // Akinci boundaries alone keep the fluid in
+  // The boundary model only, no measure: Akinci boundaries alone keep the fluid in.
+  CHECK(dfsph().default_wall_treatments == std::vector<std::string>{"akinci_boundary"});
+  CHECK(dfsph().wall_samples);  // and every boundary model of wall samples (tests/test_dfsph_walls.cpp)
   const Scene scene = load("dambreak.json");
   Simulation simulation(scene, dfsph());
   const StepReport& report = simulation.advance();

@@ -142,7 +142,7 @@ void mps_lab_register_wall_treatment_mirror_particles(mps_lab::WallTreatmentRegi
                                       "image velocity: free_slip (normal part reversed) or no_slip (reversed)")
                          .one_of({"free_slip", "no_slip"})};
   info.parameters.push_back(
-      string_parameter("crossing", "none",
+      string_parameter("crossing", "reflect",
                        "a fluid particle behind the wall surface: reflect it back and stop its motion into the wall "
                        "(kinematic no-penetration), or none")
           .one_of({"reflect", "none"}));

@@ -11,8 +11,12 @@
 //      pressure p = (kappa + kappa^v) rho, Pa;
 //   8. advection x^{n+1} = x^n + dt v^{n+1};                          [after_correction]
 //      escaped fluid particles become ghosts.
-// Bracketed: the wall-treatment hooks (all off by default for dfsph). Decisions where the
-// papers leave a choice are listed in docs/methods/dfsph.md.
+// Bracketed: the wall-treatment hooks (no measure is on by default for dfsph). The wall is the
+// run's boundary model: Akinci boundary particles (akinci_boundary, the default; its `layers`
+// and `volume` are read here), or wall samples (dummy_layers, mirror_particles,
+// distance_function) rebuilt right after every neighbour search and summed in every operator
+// like boundary particles (methods/dfsph/dfsph_operators.hpp). Decisions where the papers
+// leave a choice are listed in docs/methods/dfsph.md.
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -102,8 +106,17 @@ class DfsphMethod final : public Method {
     full_neighbour_count_ = lattice_neighbour_count(kernel_.support(), l0);
     divergence_min_neighbours_ = static_cast<std::uint32_t>(
         std::ceil(p.number("divergence_neighbour_fraction") * static_cast<double>(full_neighbour_count_) - 1e-9));
-    boundary_wall_layers_ = static_cast<int>(p.integer("boundary_wall_layers"));
-    boundary_volume_ = boundary_volume_from_name(p.string("boundary_volume"));
+    sample_hydrostatic_ = p.boolean("wall_sample_hydrostatic");
+    if (walls_.boundary_name() == "akinci_boundary") {  // the particle model this method implements
+      const ParameterValues& boundary = walls_.boundary_parameters();
+      boundary_wall_layers_ = static_cast<int>(boundary.integer("layers"));
+      boundary_volume_ = boundary_volume_from_name(boundary.string("volume"));
+    } else if (walls_.wall_particles()) {
+      throw std::logic_error("dfsph: boundary model '" + walls_.boundary_name() +
+                             "' of wall particles is not implemented by this method");
+    } else {
+      boundary_wall_layers_ = 0;  // no wall particles in the ParticleSet: the wall is samples
+    }
 
     const std::string block = "methods.dfsph.";
     if (min_time_step_ > max_time_step_) {
@@ -124,6 +137,8 @@ class DfsphMethod final : public Method {
   void initialise(ParticleSet& particles) override {
     const std::size_t n = particles.size();
     search(particles);
+    WallContext context{particles, &neighbours_, scene_.time.time_step, scene_};
+    build_samples(context);
     const double l0 = scene_.particle_spacing;
     compute_boundary_masses(particles, neighbours_, cache_, boundary_wall_layers_, rest_density_, boundary_volume_,
                             l0 * l0, boundary_mass_);
@@ -167,8 +182,9 @@ class DfsphMethod final : public Method {
     const auto count = static_cast<std::ptrdiff_t>(n);
     WallContext context{particles, &neighbours_, dt, scene_};
 
-    // 1. neighbourhoods
+    // 1. neighbourhoods (and the wall samples of a boundary model without wall particles)
     search(particles);
+    build_samples(context);
     walls_.after_neighbour_search(context);
     const SphSystem sph = system();
 
@@ -199,6 +215,7 @@ class DfsphMethod final : public Method {
       add_viscous_acceleration(particles, sph, density, scene_.physics.kinematic_viscosity, kernel_.support(),
                                acceleration_);
     }
+    if (sample_hydrostatic_) add_sample_hydrostatic_acceleration(particles, sph, density, gravity, acceleration_);
 
     // 5. the time step dt was chosen by time_step(); 6. predicted velocities
 #pragma omp parallel for schedule(static) if (count >= kThreadedLoopMinimum)
@@ -220,7 +237,7 @@ class DfsphMethod final : public Method {
       divergence_pressure[i] = fluid ? divergence_stiffness_[i] * density[i] : 0.0;
       if (fluid) particles.pressure[i] = density_stiffness_[i] * density[i] + divergence_pressure[i];
     }
-    compute_boundary_pressures(particles, sph, density, scene_.particle_spacing);
+    if (walls_.wall_particles()) compute_boundary_pressures(particles, sph, density, scene_.particle_spacing);
 
     // 8. advection
 #pragma omp parallel for schedule(static) if (count >= kThreadedLoopMinimum)
@@ -253,30 +270,39 @@ class DfsphMethod final : public Method {
       volume_min = std::min(volume_min, psi / rest_density_);
       volume_max = std::max(volume_max, psi / rest_density_);
     }
-    return {{"kernel", kernel_.kind() == SphKernelKind::CubicSpline ? "cubic_spline" : "wendland_c2"},
-            {"kernel_support_over_l0", kernel_.support() / l0},
-            {"particle_mass", particle_mass_},
-            {"lattice_density_over_rho0", particle_mass_ * lattice_kernel_sum(kernel_, l0) / rest_density_},
-            {"lattice_neighbours", full_neighbour_count_},
-            {"divergence_min_neighbours", divergence_min_neighbours_},
-            {"boundary_particles", boundary_particles},
-            {"boundary_volume", boundary_volume_ == BoundaryVolume::Akinci ? "akinci" : "lattice"},
-            {"boundary_volume_over_l0_squared",
-             {{"min", boundary_particles > 0 ? volume_min / (l0 * l0) : 0.0}, {"max", volume_max / (l0 * l0)}}},
-            {"time_step", {{"rule", cfl_rule_ ? "cfl" : "fixed"},
-                           {"min", steps_ > 0 ? dt_min_ : 0.0},
-                           {"max", dt_max_},
-                           {"mean", steps_ > 0 ? elapsed_ / static_cast<double>(steps_) : 0.0}}},
-            {"density_solver", density_totals_.to_json()},
-            {"divergence_solver", divergence_totals_.to_json()},
-            {"wall_treatments", walls_.names()},
-            {"ghosts_created", ghosts_}};
+    nlohmann::json summary = {{"kernel", kernel_.kind() == SphKernelKind::CubicSpline ? "cubic_spline" : "wendland_c2"},
+                              {"kernel_support_over_l0", kernel_.support() / l0},
+                              {"particle_mass", particle_mass_},
+                              {"lattice_density_over_rho0",
+                               particle_mass_ * lattice_kernel_sum(kernel_, l0) / rest_density_},
+                              {"lattice_neighbours", full_neighbour_count_},
+                              {"divergence_min_neighbours", divergence_min_neighbours_},
+                              {"boundary_model", walls_.boundary_name()},
+                              {"time_step", {{"rule", cfl_rule_ ? "cfl" : "fixed"},
+                                             {"min", steps_ > 0 ? dt_min_ : 0.0},
+                                             {"max", dt_max_},
+                                             {"mean", steps_ > 0 ? elapsed_ / static_cast<double>(steps_) : 0.0}}},
+                              {"density_solver", density_totals_.to_json()},
+                              {"divergence_solver", divergence_totals_.to_json()},
+                              {"wall_treatments", walls_.names()},
+                              {"ghosts_created", ghosts_}};
+    if (walls_.wall_particles()) {
+      summary["boundary_particles"] = boundary_particles;
+      summary["boundary_volume"] = boundary_volume_ == BoundaryVolume::Akinci ? "akinci" : "lattice";
+      summary["boundary_volume_over_l0_squared"] = {{"min", boundary_particles > 0 ? volume_min / (l0 * l0) : 0.0},
+                                                    {"max", volume_max / (l0 * l0)}};
+    } else {
+      summary["wall_samples"] = {{"hydrostatic_offset", sample_hydrostatic_},
+                                 {"last_step", samples_.samples.size()}};
+    }
+    return summary;
   }
 
   // State between steps: the warm-start stiffnesses of both solvers, the last non-pressure
   // acceleration and step (the CFL estimate of the next time_step()), the method's clock
   // (it evens out the last steps before end_time), the boundary masses and the summary's
-  // totals. The neighbour list and kernel cache are rebuilt at the start of every step.
+  // totals. The neighbour list, kernel cache and wall samples are rebuilt at the start of
+  // every step (from the positions alone), so they are not saved.
   void save_state(CheckpointWriter& out) const override {
     out.write_doubles(boundary_mass_);
     out.write_doubles(density_stiffness_);
@@ -317,7 +343,19 @@ class DfsphMethod final : public Method {
   }
 
  private:
-  SphSystem system() const { return {neighbours_, cache_, boundary_mass_, particle_mass_, rest_density_}; }
+  SphSystem system() const {
+    return {neighbours_, cache_, boundary_mass_, particle_mass_, rest_density_, &samples_, &sample_cache_};
+  }
+
+  // The boundary model's wall samples for the fresh neighbour list (none for a model of wall
+  // particles), their kernel values, and what the hooks of this step see of them.
+  void build_samples(WallContext& context) {
+    context.support = kernel_.support();
+    walls_.build_wall_samples(context, samples_);
+    context.samples = &samples_;
+    const double l0 = scene_.particle_spacing;
+    compute_sample_cache(context.particles, samples_, kernel_, rest_density_, l0 * l0, sample_cache_);
+  }
 
   void search(const ParticleSet& particles) {
     cells_.build(particles.position, particles.type, kernel_.support());
@@ -370,10 +408,13 @@ class DfsphMethod final : public Method {
   std::uint32_t divergence_min_neighbours_ = 0;
   int boundary_wall_layers_ = 3;
   BoundaryVolume boundary_volume_ = BoundaryVolume::Akinci;
+  bool sample_hydrostatic_ = false;
 
   CellList cells_;
   NeighbourList neighbours_;
   KernelCache cache_;
+  WallSampleList samples_;     // wall samples of this step (boundary models without wall particles)
+  SampleCache sample_cache_;
   std::vector<double> boundary_mass_;         // Psi_b, kg/m
   std::vector<double> density_stiffness_;     // kappa_i of the density solver, m^2/s^2
   std::vector<double> divergence_stiffness_;  // kappa^v_i of the divergence solver, m^2/s^2
@@ -396,7 +437,8 @@ void mps_lab_register_method_dfsph(mps_lab::MethodRegistry& registry) {
   MethodInfo info;
   info.name = "dfsph";
   info.description =
-      "Divergence-Free SPH (Bender & Koschier 2015/2017): divergence and constant-density solvers, Akinci boundaries";
+      "Divergence-Free SPH (Bender & Koschier 2015/2017): divergence and constant-density solvers, Akinci boundaries "
+      "or wall samples";
   info.parameters = {
       string_parameter("kernel", "cubic_spline", "SPH kernel (BK17: cubic spline)").one_of({"cubic_spline", "wendland_c2"}),
       number_parameter("kernel_support", 2.0, "l0",
@@ -434,13 +476,9 @@ void mps_lab_register_method_dfsph(mps_lab::MethodRegistry& registry) {
                        "share of the last step's stiffness both solvers start from (SPlisHSPlasH 0.5; BK17 text: the sum)")
           .at_least(0.0)
           .at_most(1.0),
-      integer_parameter("boundary_wall_layers", 3,
-                        "wall layers (from the fluid) that are Akinci boundary particles; outer layers are ignored")
-          .at_least(1)
-          .at_most(10),
-      string_parameter("boundary_volume", "lattice",
-                       "volume of a boundary particle: \"akinci\" V_b = 1/sum_k W_bk (Akinci 2012), \"lattice\" V_b = l0^2")
-          .one_of({"akinci", "lattice"}),
+      boolean_parameter("wall_sample_hydrostatic", false,
+                        "wall samples (boundary models without wall particles): add the hydrostatic part "
+                        "rho0 g.(x_w - x_s) of their pressure as an explicit force (measured harmful)"),
   };
   info.fields = {{"density", "kg/m^3", "SPH density rho_i at the start of the step (fluid; 0 elsewhere)", true},
                  {"divergence_pressure", "Pa", "kappa^v rho: the divergence-free solver's part of `pressure`", true},
@@ -448,7 +486,8 @@ void mps_lab_register_method_dfsph(mps_lab::MethodRegistry& registry) {
                  {"dfsph_factor", "m^5/kg", "alpha_i of BK17 eq. (11)", false}};
   info.series_columns = {"divergence_iterations", "divergence_error", "density_iterations", "density_error",
                          "compression"};
-  info.default_wall_treatments = {};
+  info.default_wall_treatments = {"akinci_boundary"};
+  info.wall_samples = true;  // its operators sum over wall samples (core/wall_samples.hpp)
   info.create = [](const MethodSetup& setup) { return std::make_unique<dfsph::DfsphMethod>(setup); };
   registry.add(std::move(info));
 }

@@ -21,6 +21,52 @@ void compute_kernel_cache(const ParticleSet& particles, const NeighbourList& nei
   }
 }
 
+void compute_sample_cache(const ParticleSet& particles, const WallSampleList& samples, const SphKernel& kernel,
+                          double rest_density, double lattice_volume, SampleCache& cache) {
+  const std::size_t count = samples.samples.size();
+  cache.value.resize(count);
+  cache.gradient.resize(count);
+  cache.mass.resize(count);
+  cache.own.resize(count);
+  cache.reaction.resize(count);
+  cache.owner.resize(count);
+  cache.by_source_offsets.clear();
+  cache.by_source.clear();
+  if (!samples.has_samples()) return;
+  const std::size_t n = particles.size();
+  const auto count_n = static_cast<std::ptrdiff_t>(n);
+#pragma omp parallel for schedule(static) if (count_n >= kThreadedLoopMinimum)
+  for (std::ptrdiff_t i = 0; i < count_n; ++i) {
+    for (std::uint32_t k = samples.begin(i); k < samples.end(i); ++k) {
+      const WallSample& w = samples.samples[k];
+      const Vec2 r_iw = particles.position[i] - w.position;
+      const double psi = rest_density * w.volume * lattice_volume;  // Psi_w = rho0 V_w
+      const Vec2 gradient = kernel.gradient(r_iw);
+      const Vec2 moved = w.velocity_map.transpose() * gradient;  // M^T grad W_iw
+      cache.value[k] = kernel.value(r_iw.norm());
+      cache.gradient[k] = gradient;
+      cache.mass[k] = psi;
+      cache.owner[k] = static_cast<std::uint32_t>(i);
+      // D rho_i/Dt gets Psi (v_i - M v_s) . grad W: for s = i the sample moves with i itself.
+      const bool own = w.source == static_cast<std::uint32_t>(i);
+      cache.own[k] = psi * (own ? Vec2(gradient - moved) : gradient);
+      cache.reaction[k] = own ? Vec2::Zero() : Vec2(psi * moved);
+    }
+  }
+  // The samples of other particles by source (in owner order: deterministic).
+  cache.by_source_offsets.assign(n + 1, 0);
+  for (std::size_t k = 0; k < count; ++k) {
+    if (samples.samples[k].source != cache.owner[k]) ++cache.by_source_offsets[samples.samples[k].source + 1];
+  }
+  for (std::size_t j = 0; j < n; ++j) cache.by_source_offsets[j + 1] += cache.by_source_offsets[j];
+  cache.by_source.resize(cache.by_source_offsets[n]);
+  std::vector<std::uint32_t> fill(cache.by_source_offsets.begin(), cache.by_source_offsets.end() - 1);
+  for (std::size_t k = 0; k < count; ++k) {
+    const std::uint32_t source = samples.samples[k].source;
+    if (source != cache.owner[k]) cache.by_source[fill[source]++] = static_cast<std::uint32_t>(k);
+  }
+}
+
 BoundaryVolume boundary_volume_from_name(const std::string& name) {
   if (name == "akinci") return BoundaryVolume::Akinci;
   if (name == "lattice") return BoundaryVolume::Lattice;
@@ -70,6 +116,12 @@ void compute_densities(const ParticleSet& particles, const SphSystem& system, st
         boundary_sum += system.boundary_mass[j] * system.kernel.value[k];
       }
     }
+    if (system.has_samples()) {
+      const auto& w = *system.sample_kernel;
+      for (std::uint32_t k = system.samples->begin(i); k < system.samples->end(i); ++k) {
+        boundary_sum += w.mass[k] * w.value[k];  // a wall sample: a boundary particle of mass Psi_w
+      }
+    }
     density[i] = system.particle_mass * fluid_sum + boundary_sum;  // SPH density sum, [AIA12] boundary term
   }
 }
@@ -94,6 +146,39 @@ void compute_dfsph_factors(const ParticleSet& particles, const SphSystem& system
         squared_sum += term.squaredNorm();
       } else if (is_boundary(particles, system, j)) {
         gradient_sum += system.boundary_mass[j] * system.kernel.gradient[k];
+      }
+    }
+    if (system.has_samples()) {
+      // First term: G_ii of the samples. Second term: the samples that move with another
+      // fluid particle j (images of j) add -Psi M^T grad W_iw to G_ij, grouped with the pair
+      // term of j when j is a listed neighbour (docs/methods/dfsph.md, "Wall boundary models").
+      const auto& w = *system.sample_kernel;
+      const auto& samples = *system.samples;
+      bool foreign = false;
+      for (std::uint32_t k = samples.begin(i); k < samples.end(i); ++k) {
+        gradient_sum += w.own[k];
+        foreign = foreign || samples.samples[k].source != static_cast<std::uint32_t>(i);
+      }
+      if (foreign) {
+        squared_sum = 0.0;  // recomputed with the images grouped by their source
+        for (std::uint32_t k = list.begin(i); k < list.end(i); ++k) {
+          const std::uint32_t j = list.indices[k];
+          if (particles.type[j] != ParticleType::Fluid) continue;
+          Vec2 term = m * system.kernel.gradient[k];
+          for (std::uint32_t q = samples.begin(i); q < samples.end(i); ++q) {
+            if (samples.samples[q].source == j) term += w.reaction[q];
+          }
+          squared_sum += term.squaredNorm();
+        }
+        for (std::uint32_t q = samples.begin(i); q < samples.end(i); ++q) {
+          const std::uint32_t j = samples.samples[q].source;
+          if (j == static_cast<std::uint32_t>(i)) continue;
+          bool listed = false;
+          for (std::uint32_t k = list.begin(i); k < list.end(i) && !listed; ++k) {
+            listed = list.indices[k] == j && particles.type[j] == ParticleType::Fluid;
+          }
+          if (!listed) squared_sum += w.reaction[q].squaredNorm();
+        }
       }
     }
     const double denominator = gradient_sum.squaredNorm() + squared_sum;
@@ -122,6 +207,13 @@ void compute_density_change_rate(const ParticleSet& particles, const SphSystem& 
         sum += system.boundary_mass[j] * vi.dot(system.kernel.gradient[k]);  // v_b = 0
       }
     }
+    if (system.has_samples()) {
+      const auto& w = *system.sample_kernel;
+      for (std::uint32_t k = system.samples->begin(i); k < system.samples->end(i); ++k) {
+        const Vec2 uw = sample_velocity(system.samples->samples[k], particles.velocity);  // u_w = M v_s, now
+        sum += w.mass[k] * (vi - uw).dot(w.gradient[k]);
+      }
+    }
     rate[i] = sum;  // [BK17] eq. (9)
   }
 }
@@ -142,6 +234,19 @@ void apply_pressure_velocity_change(ParticleSet& particles, const SphSystem& sys
         acceleration -= m * (s[i] + s[j]) * system.kernel.gradient[k];  // [BK17] eqs. (7)-(8): force along grad rho_i + reactions
       } else if (is_boundary(particles, system, j)) {
         acceleration -= system.boundary_mass[j] * s[i] * system.kernel.gradient[k];  // p_b = p_i, once ([AIA12], authors' code)
+      }
+    }
+    if (system.has_samples()) {
+      const auto& w = *system.sample_kernel;
+      // The constraint force of the samples: -s_i G_ii (for a sample at rest Psi_w s_i grad W_iw,
+      // [AIA12]'s mirroring), and the reaction of every constraint k whose samples move with i
+      // (images of i seen by k): -s_k G_ki = +s_k Psi M^T grad W_kw.
+      for (std::uint32_t k = system.samples->begin(i); k < system.samples->end(i); ++k) {
+        acceleration -= s[i] * w.own[k];
+      }
+      for (std::uint32_t q = w.by_source_offsets[i]; q < w.by_source_offsets[i + 1]; ++q) {
+        const std::uint32_t k = w.by_source[q];
+        acceleration += s[w.owner[k]] * w.reaction[k];
       }
     }
     particles.velocity[i] += dt * acceleration;
@@ -180,6 +285,16 @@ void add_viscous_acceleration(const ParticleSet& particles, const SphSystem& sys
       const double weight = r_ij.dot(system.kernel.gradient[k]) / (r_ij.squaredNorm() + eta2);  // 1/m^2
       sum += mass * (rho_i + rho_j) / (rho_i * rho_j) * weight * (particles.velocity[i] - vj);  // [MFZ97] eq. (8)
     }
+    if (system.has_samples()) {
+      const auto& w = *system.sample_kernel;
+      for (std::uint32_t k = system.samples->begin(i); k < system.samples->end(i); ++k) {
+        const WallSample& sample = system.samples->samples[k];
+        const Vec2 uw = sample_velocity(sample, particles.velocity);
+        const Vec2 r_iw = particles.position[i] - sample.position;
+        const double weight = r_iw.dot(w.gradient[k]) / (r_iw.squaredNorm() + eta2);
+        sum += w.mass[k] * (rho_i + rho0) / (rho_i * rho0) * weight * (particles.velocity[i] - uw);
+      }
+    }
     acceleration[i] += kinematic_viscosity * sum;
   }
 }
@@ -207,8 +322,7 @@ void compute_boundary_pressures(ParticleSet& particles, const SphSystem& system,
   }
 }
 
-void count_active_neighbours(const ParticleSet& particles, const SphSystem& system,
-                             std::vector<std::uint32_t>& counts) {
+void count_active_neighbours(const ParticleSet& particles, const SphSystem& system, std::vector<double>& counts) {
   const auto& list = system.neighbours;
   const auto n = static_cast<std::ptrdiff_t>(particles.size());
   // A pair at the very edge of the support (W below 1e-9 W(0), e.g. exactly 2 l0 apart on
@@ -223,7 +337,34 @@ void count_active_neighbours(const ParticleSet& particles, const SphSystem& syst
       if (system.kernel.value[k] <= negligible) continue;
       count += particles.type[j] == ParticleType::Fluid || is_boundary(particles, system, j);
     }
-    counts[i] = count;
+    double weighted = static_cast<double>(count);
+    if (system.has_samples()) {
+      for (std::uint32_t k = system.samples->begin(i); k < system.samples->end(i); ++k) {
+        if (system.sample_kernel->value[k] > negligible) weighted += system.samples->samples[k].volume;
+      }
+    }
+    counts[i] = weighted;
+  }
+}
+
+void add_sample_hydrostatic_acceleration(const ParticleSet& particles, const SphSystem& system,
+                                         const std::vector<double>& density, const Vec2& gravity,
+                                         std::vector<Vec2>& acceleration) {
+  if (!system.has_samples()) return;
+  const double rho0 = system.rest_density;
+  const auto& w = *system.sample_kernel;
+  const auto n = static_cast<std::ptrdiff_t>(particles.size());
+#pragma omp parallel for schedule(static) if (n >= kThreadedLoopMinimum)
+  for (std::ptrdiff_t i = 0; i < n; ++i) {
+    if (particles.type[i] != ParticleType::Fluid) continue;
+    Vec2 sum = Vec2::Zero();
+    for (std::uint32_t k = system.samples->begin(i); k < system.samples->end(i); ++k) {
+      const WallSample& sample = system.samples->samples[k];
+      const double offset = sample_pressure_offset(sample, particles.position, rho0, gravity);  // Pa
+      const double rho_s = density[sample.source];
+      sum -= w.mass[k] * offset / (rho_s * rho_s) * w.gradient[k];
+    }
+    acceleration[i] += sum;
   }
 }
 

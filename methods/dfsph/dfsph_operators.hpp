@@ -16,6 +16,14 @@
 // not use): inert particles are skipped in every sum. Boundary particles never move
 // (v_b = 0), carry no unknown and take the pressure of the fluid particle they act on
 // (pressure mirroring, as in the authors' implementation).
+//
+// Wall samples (core/wall_samples.hpp: dummy_layers, mirror_particles, distance_function).
+// When the boundary model puts no wall particles into the ParticleSet, every fluid particle i
+// has a list of wall samples w, and every sum below has a second part over them, in which a
+// sample is a boundary particle of mass Psi_w = rho0 V_w l0^2 (V_w: the sample's volume in
+// l0^2) at x_w, moving with u_w = M_w v_s (v_s: the current velocity of its source s) and
+// mirroring the pressure of its source: where a boundary particle's term has
+// s_i = kappa_i / rho_i, a sample's has s_s (for s = i exactly [AIA12]'s mirroring).
 #include <cstddef>
 #include <string>
 #include <vector>
@@ -23,6 +31,7 @@
 #include "core/neighbour_search.hpp"
 #include "core/particles.hpp"
 #include "core/sph_kernels.hpp"
+#include "core/wall_samples.hpp"
 
 namespace mps_lab::dfsph {
 
@@ -42,6 +51,24 @@ struct KernelCache {
   double self_value = 0.0;       // W(0), 1/m^2
 };
 
+// W, grad_i W(x_i - x_w), Psi_w and the constraint gradients of every wall sample (aligned
+// with WallSampleList::samples; i = the particle whose sample it is), evaluated once per step
+// like the KernelCache. A sample w of i with source s enters D rho_i/Dt as
+// Psi_w (v_i - M_w v_s) . grad W_iw, i.e. d(D rho_i/Dt)/dv_i gets `own` and, for s != i,
+// d(D rho_i/Dt)/dv_s gets -`reaction`.
+struct SampleCache {
+  std::vector<double> value;     // W_iw, 1/m^2
+  std::vector<Vec2> gradient;    // grad_i W_iw, 1/m^3
+  std::vector<double> mass;      // Psi_w = rho0 V_w l0^2, kg/m
+  std::vector<Vec2> own;         // Psi_w (I - M_w)^T grad W_iw for s = i, else Psi_w grad W_iw; kg/m^4
+  std::vector<Vec2> reaction;    // Psi_w M_w^T grad W_iw for s != i, else 0; kg/m^4
+  std::vector<std::uint32_t> owner;  // i
+  // The samples whose source is j and whose owner is not j: by_source[by_source_offsets[j] ..
+  // by_source_offsets[j + 1]) (indices into the sample list, in owner order).
+  std::vector<std::uint32_t> by_source_offsets;
+  std::vector<std::uint32_t> by_source;
+};
+
 // Everything an operator reads besides the particles: one bundle per step.
 struct SphSystem {
   const NeighbourList& neighbours;
@@ -49,6 +76,12 @@ struct SphSystem {
   const std::vector<double>& boundary_mass;  // Psi_b = rho0 V_b (kg/m) for boundary particles, else 0
   double particle_mass;                      // m = rho0 l0^2, kg/m
   double rest_density;                       // rho0, kg/m^3
+  // The wall samples of this step and their kernel values; null (or a list without samples)
+  // for a boundary model of wall particles: then the sample sums are skipped.
+  const WallSampleList* samples = nullptr;
+  const SampleCache* sample_kernel = nullptr;
+
+  bool has_samples() const { return samples != nullptr && sample_kernel != nullptr && samples->has_samples(); }
 };
 
 inline bool is_boundary(const ParticleSet& particles, const SphSystem& system, std::size_t j) {
@@ -57,6 +90,11 @@ inline bool is_boundary(const ParticleSet& particles, const SphSystem& system, s
 
 void compute_kernel_cache(const ParticleSet& particles, const NeighbourList& neighbours, const SphKernel& kernel,
                           KernelCache& cache);
+
+// W_iw, grad_i W_iw and Psi_w = rho0 V_w `lattice_volume` for every sample of `samples`
+// (`lattice_volume` = l0^2, m^2). Empty for a list without samples.
+void compute_sample_cache(const ParticleSet& particles, const WallSampleList& samples, const SphKernel& kernel,
+                          double rest_density, double lattice_volume, SampleCache& cache);
 
 // How the volume V_b of a boundary particle is obtained.
 enum class BoundaryVolume {
@@ -72,25 +110,27 @@ void compute_boundary_masses(const ParticleSet& particles, const NeighbourList& 
                              const KernelCache& kernel, int wall_layers, double rest_density,
                              BoundaryVolume rule, double lattice_volume, std::vector<double>& boundary_mass);
 
-// The SPH density sum with [AIA12]'s boundary term: rho_i = sum_j m W_ij (i included) + sum_b Psi_b W_ib.
-// Fluid particles only; others get 0.
+// The SPH density sum with [AIA12]'s boundary term: rho_i = sum_j m W_ij (i included) + sum_b Psi_b W_ib
+// (+ sum_w Psi_w W_iw over wall samples). Fluid particles only; others get 0.
 void compute_densities(const ParticleSet& particles, const SphSystem& system, std::vector<double>& density);
 
 // [BK17] eq. (11): alpha_i = rho_i / (|sum_j m grad W_ij + sum_b Psi_b grad W_ib|^2 + sum_j |m grad W_ij|^2)
-// (boundary particles do not move, so they enter only the first term). m^5/kg in 2-D; 0 for a
-// particle without neighbours and for non-fluid particles.
+// (boundary particles do not move, so they enter only the first term; so do wall samples). m^5/kg
+// in 2-D; 0 for a particle without neighbours and for non-fluid particles.
 void compute_dfsph_factors(const ParticleSet& particles, const SphSystem& system, const std::vector<double>& density,
                            std::vector<double>& alpha);
 
 // [BK17] eq. (9): D rho_i / Dt = sum_j m (v_i - v_j) . grad W_ij + sum_b Psi_b (v_i - v_b) . grad W_ib,
-// v_b = 0. kg/(m^3 s); fluid particles only, others 0.
+// v_b = 0 (+ sum_w Psi_w (v_i - M_w v_s) . grad W_iw over wall samples). kg/(m^3 s); fluid
+// particles only, others 0.
 void compute_density_change_rate(const ParticleSet& particles, const SphSystem& system, std::vector<double>& rate);
 
 // The velocity change of the DFSPH pressure forces ([BK17] eqs. (7)-(8): the force along
 // -grad rho_i and its reactions on the neighbours, summed over the pairs; Algorithms 2, 3):
 //   v_i <- v_i - dt [ sum_j m (s_i + s_j) grad W_ij + sum_b Psi_b s_i grad W_ib ],
 // with s_i = kappa_i / rho_i = p_i / rho_i^2 (the symmetric SPH pressure gradient; the
-// boundary term mirrors p_b = p_i and acts once, as in [AIA12] and the authors' code).
+// boundary term mirrors p_b = p_i and acts once, as in [AIA12] and the authors' code; a wall
+// sample adds - dt Psi_w s_source grad W_iw).
 // Reads only `stiffness_over_density`, writes only the fluid velocities: a Jacobi update.
 void apply_pressure_velocity_change(ParticleSet& particles, const SphSystem& system,
                                     const std::vector<double>& stiffness_over_density, double dt);
@@ -98,7 +138,8 @@ void apply_pressure_velocity_change(ParticleSet& particles, const SphSystem& sys
 // Laminar viscosity of [MFZ97] eq. (8) with mu = rho nu:
 //   a_i += sum_j m_j nu (rho_i + rho_j) / (rho_i rho_j) (r_ij . grad W_ij) / (|r_ij|^2 + eta^2) (v_i - v_j),
 // r_ij = x_i - x_j, eta = 0.1 h (h = support / 2). Boundary neighbours count with mass
-// Psi_b, density rho0 and velocity 0 (no-slip walls).
+// Psi_b, density rho0 and velocity 0 (no-slip walls); wall samples with mass Psi_w, density
+// rho0 and velocity M_w v_s.
 void add_viscous_acceleration(const ParticleSet& particles, const SphSystem& system,
                               const std::vector<double>& density, double kinematic_viscosity, double support,
                               std::vector<Vec2>& acceleration);
@@ -113,9 +154,16 @@ void add_viscous_acceleration(const ParticleSet& particles, const SphSystem& sys
 void compute_boundary_pressures(ParticleSet& particles, const SphSystem& system, const std::vector<double>& density,
                                 double face_length);
 
-// Neighbours that take part in the sums (fluid or boundary), per particle.
-void count_active_neighbours(const ParticleSet& particles, const SphSystem& system,
-                             std::vector<std::uint32_t>& counts);
+// Neighbours that take part in the sums (fluid or boundary), per particle; a wall sample
+// counts as its volume V_w (a lattice point of the wall counts 1, as a boundary particle).
+void count_active_neighbours(const ParticleSet& particles, const SphSystem& system, std::vector<double>& counts);
+
+// The hydrostatic part of the wall samples' pressure (core/wall_samples.hpp), as an explicit
+// acceleration: a_i -= sum_w Psi_w (rho0 g . (x_w - x_s)) / rho_s^2 grad W_iw. Optional
+// (methods.dfsph.wall_sample_hydrostatic, docs/methods/dfsph.md). No-op without samples.
+void add_sample_hydrostatic_acceleration(const ParticleSet& particles, const SphSystem& system,
+                                         const std::vector<double>& density, const Vec2& gravity,
+                                         std::vector<Vec2>& acceleration);
 
 // (The lattice density of a fluid particle with full support is m lattice_kernel_sum, in
 // core/sph_kernels.hpp.)

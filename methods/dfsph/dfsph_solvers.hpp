@@ -40,7 +40,7 @@ struct SolverWorkspace {
   std::vector<double> source;                  // rho*_i (kg/m^3) or D rho_i/Dt (kg/(m^3 s))
   std::vector<double> stiffness_over_density;  // s_i = kappa_i / rho_i of one correction, m^5/(kg s^2)
   std::vector<double> relative_error;          // per particle, for the mean
-  std::vector<std::uint32_t> neighbour_counts;
+  std::vector<double> neighbour_counts;      // fluid + boundary neighbours (+ sample volumes)
 };
 
 // Algorithm 2 of [BK17] (§3.2): corrects the velocities so that D rho_i/Dt = 0, with
