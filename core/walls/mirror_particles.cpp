@@ -82,7 +82,8 @@ class MirrorParticles final : public WallTreatment {
       for (const Corner& corner : corners_) {
         if (distance[corner.a] <= 0.0 || distance[corner.b] <= 0.0) continue;
         const Vec2 image = 2.0 * corner.point - x;
-        if ((image - x).norm() >= support || !geometry_.inside_solid(image)) continue;
+        // No fluid particle reaches the image unless x is within the support of the corner.
+        if ((x - corner.point).norm() >= support || !geometry_.inside_solid(image)) continue;
         images_.push_back({image, -Mat2::Identity()});
       }
     }

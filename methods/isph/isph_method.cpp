@@ -4,12 +4,17 @@
 //   predictor:  a = g + nu <lap u> (Morris 1997; skipped when nu = 0);  u* = u + dt a;
 //               [after_explicit_velocity];  r* = r + dt u*;  walls fixed;  [after_explicit_position]
 //   projection: neighbour search at r*;  [after_neighbour_search];  rho* (summation);
-//               free surface;  div u*;  PPE (fluid + Adami walls) by BiCGSTAB;  p < 0 -> 0;
+//               free surface;  div u*;  PPE (fluid + Adami walls, or fluid + wall samples) by
+//               BiCGSTAB;  p < 0 -> 0;
 //               u = u* - dt grad p / rho;  r = r* + dt^2 (-grad p / rho)  (or Shao & Lo's
 //               r = r^n + dt (u^n + u)/2);  walls fixed;  [after_correction];  escaped -> ghosts
 // Bracketed steps are the wall-treatment hooks (core/walls/); only the wall position clamp is
-// on by default. docs/methods/isph.md gives the equations, the decisions where the papers
-// leave a choice, and the measurements behind every default.
+// on by default. The boundary model is adami_wall_particles (wall particles with Adami rows in
+// the PPE) unless the scene names one of wall samples: then each search at r* (and the first)
+// is followed by the boundary model's wall samples, which every operator and the PPE sum over
+// beside the neighbours (isph_operators.hpp, isph_pressure.hpp). docs/methods/isph.md gives
+// the equations, the decisions where the papers leave a choice, and the measurements behind
+// every default.
 #include <algorithm>
 #include <cmath>
 #include <memory>
@@ -79,8 +84,9 @@ class IsphMethod final : public Method {
     acceleration_.assign(n, Vec2::Zero());
     predicted_velocity_.assign(n, Vec2::Zero());
     source_.assign(n, 0.0);
-    search(particles);
-    summation_density(particles, neighbours_, kernel_, mass_, rest_density_, particles.field("density"));
+    WallContext context{particles, &neighbours_, 0.0, scene_};
+    search(particles, context);
+    summation_density(particles, neighbours_, samples_, kernel_, mass_, rest_density_, particles.field("density"));
   }
 
   double time_step(const ParticleSet&) const override { return scene_.time.time_step; }
@@ -89,6 +95,8 @@ class IsphMethod final : public Method {
     const std::size_t n = particles.size();
     const auto count = static_cast<std::ptrdiff_t>(n);
     WallContext context{particles, &neighbours_, dt, scene_};
+    context.samples = &samples_;
+    context.support = kernel_.support();
     auto& density = particles.field("density");
     auto& free_surface = particles.field("free_surface");
     auto& divergence = particles.field("velocity_divergence");
@@ -106,8 +114,8 @@ class IsphMethod final : public Method {
       acceleration_[i] = particles.type[i] == ParticleType::Fluid ? gravity : Vec2::Zero();
     }
     if (scene_.physics.kinematic_viscosity > 0.0) {
-      add_viscous_acceleration(particles, neighbours_, kernel_, mass_, operator_density(density),
-                               scene_.physics.kinematic_viscosity, eta2_, acceleration_);
+      add_viscous_acceleration(particles, neighbours_, samples_, kernel_, mass_, operator_density(density),
+                               rest_density_, scene_.physics.kinematic_viscosity, eta2_, acceleration_);
     }
 #pragma omp parallel for schedule(static)
     for (std::ptrdiff_t i = 0; i < count; ++i) {
@@ -122,9 +130,9 @@ class IsphMethod final : public Method {
     walls_.after_explicit_position(context);
 
     // --- projection at r* ------------------------------------------------------------------
-    search(particles);
+    search(particles, context);  // and the wall samples at r*
     walls_.after_neighbour_search(context);
-    summation_density(particles, neighbours_, kernel_, mass_, rest_density_, density);  // rho*
+    summation_density(particles, neighbours_, samples_, kernel_, mass_, rest_density_, density);  // rho*
     const std::vector<double>& rho = operator_density(density);
     detect_free_surface(particles, density, rho, free_surface);
 
@@ -138,11 +146,15 @@ class IsphMethod final : public Method {
                                : particles.type[i] == ParticleType::Wall ? Vec2(dt * gravity)
                                                                          : Vec2::Zero();
     }
-    velocity_divergence(particles, neighbours_, kernel_, mass_, rho, predicted_velocity_, divergence);
+    // Wall samples likewise: u*_w = dt g + M_w (u*_s - dt g): a fixed wall point has dt g, a
+    // mirror image the mirrored motion of its source relative to that (docs/methods/isph.md,
+    // "Wall boundary models": with u*_w = M_w u*_s the hydrostatic head is counted twice).
+    velocity_divergence(particles, neighbours_, samples_, kernel_, mass_, rho, predicted_velocity_, Vec2(dt * gravity),
+                        divergence);
     compute_source(particles, density, divergence, dt);
 
     const PressureSolveResult solve =
-        ppe_.solve(particles, neighbours_, kernel_, rho, free_surface, source_, settings_);
+        ppe_.solve(particles, neighbours_, samples_, kernel_, rho, free_surface, source_, settings_);
     if (!solve.converged) ++nonconverged_solves_;
     if (clamp_negative_pressure_) {
 #pragma omp parallel for schedule(static)
@@ -152,7 +164,8 @@ class IsphMethod final : public Method {
     }
 
     // --- correction ------------------------------------------------------------------------
-    pressure_acceleration(particles, neighbours_, kernel_, mass_, rho, free_surface, gradient_form_, acceleration_);
+    pressure_acceleration(particles, neighbours_, samples_, {rest_density_, gravity, clamp_negative_pressure_}, kernel_,
+                          mass_, rho, free_surface, gradient_form_, acceleration_);
 #pragma omp parallel for schedule(static)
     for (std::ptrdiff_t i = 0; i < count; ++i) {
       if (particles.type[i] != ParticleType::Fluid) continue;
@@ -184,6 +197,7 @@ class IsphMethod final : public Method {
         {"particle_mass", mass_},
         {"nominal_mass_rho0_l0_squared", rest_density_ * l0 * l0},
         {"wall_treatments", walls_.names()},
+        {"boundary_model", walls_.boundary_name()},
         {"mean_iterations", steps_ > 0 ? static_cast<double>(total_iterations_) / static_cast<double>(steps_) : 0.0},
         {"nonconverged_solves", nonconverged_solves_},
         {"ghosts_created", ghosts_},
@@ -191,11 +205,12 @@ class IsphMethod final : public Method {
   }
 
   // State between steps: the predictor of the next step uses the neighbour list of this
-  // step's search at r* (viscosity and the wall hooks before the search), and the summary's
-  // totals. Everything else is rebuilt each step; the solver's warm start is particles.pressure
-  // and the operator density is the "density" field.
+  // step's search at r* and the wall samples built with it (viscosity and the wall hooks
+  // before the search), and the summary's totals. Everything else is rebuilt each step; the
+  // solver's warm start is particles.pressure and the operator density is the "density" field.
   void save_state(CheckpointWriter& out) const override {
     write_neighbour_list(out, neighbours_);
+    write_wall_samples(out, samples_);
     out.write_int(total_iterations_);
     out.write_int(steps_);
     out.write_int(nonconverged_solves_);
@@ -205,6 +220,7 @@ class IsphMethod final : public Method {
 
   void restore_state(CheckpointReader& in) override {
     read_neighbour_list(in, neighbours_);
+    read_wall_samples(in, samples_);
     total_iterations_ = in.read_int();
     steps_ = in.read_int();
     nonconverged_solves_ = in.read_int();
@@ -214,12 +230,22 @@ class IsphMethod final : public Method {
       in.fail("isph state for " + std::to_string(neighbours_.particle_count()) + " particles, the scene has " +
               std::to_string(acceleration_.size()));
     }
+    if (samples_.has_samples() != !walls_.wall_particles() ||
+        (samples_.has_samples() && samples_.offsets.size() != acceleration_.size() + 1)) {
+      in.fail("isph wall samples that do not fit the boundary model " + walls_.boundary_name() + " and " +
+              std::to_string(acceleration_.size()) + " particles");
+    }
   }
 
  private:
-  void search(const ParticleSet& particles) {
+  // Neighbours within the kernel support, then the boundary model's wall samples within it
+  // (none for wall particles), handed to the wall treatments in `context`.
+  void search(const ParticleSet& particles, WallContext& context) {
     cells_.build(particles.position, particles.type, kernel_.support());
     cells_.find_neighbours(particles.position, particles.type, kernel_.support(), neighbours_);
+    context.samples = &samples_;
+    context.support = kernel_.support();
+    walls_.build_wall_samples(context, samples_);
   }
 
   // The density of the operators (Laplacians, divergence, gradient, Adami head): rho0 for every
@@ -243,7 +269,7 @@ class IsphMethod final : public Method {
     const auto count = static_cast<std::ptrdiff_t>(particles.size());
     free_surface.assign(particles.size(), 0.0);
     if (free_surface_rule_ == FreeSurfaceRule::PositionDivergence) {
-      position_divergence(particles, neighbours_, kernel_, mass_, rho, position_divergence_);
+      position_divergence(particles, neighbours_, samples_, kernel_, mass_, rho, rest_density_, position_divergence_);
     }
 #pragma omp parallel for schedule(static)
     for (std::ptrdiff_t i = 0; i < count; ++i) {
@@ -324,6 +350,7 @@ class IsphMethod final : public Method {
   PressureSolveSettings settings_;
   CellList cells_;
   NeighbourList neighbours_;
+  WallSampleList samples_;  // of the boundary model, at the positions of the last search
   PressurePoissonSolver ppe_;
   std::vector<Vec2> acceleration_;        // m/s^2
   std::vector<Vec2> predicted_velocity_;  // m/s
@@ -350,7 +377,7 @@ void mps_lab_register_method_isph(mps_lab::MethodRegistry& registry) {
   info.name = "isph";
   info.description =
       "incompressible SPH by projection (Cummins & Rudman 1999; Shao & Lo 2003; Asai et al. 2012 source): "
-      "fluid + Adami-wall PPE by BiCGSTAB";
+      "fluid + Adami-wall (or wall-sample) PPE by BiCGSTAB";
   info.parameters = {
       string_parameter("kernel", "cubic_spline", "SPH kernel (core/sph_kernels.hpp)")
           .one_of({"cubic_spline", "wendland_c2"}),
@@ -406,7 +433,11 @@ void mps_lab_register_method_isph(mps_lab::MethodRegistry& registry) {
   // A free-surface particle (p = 0) feels no wall pressure, so nothing in the projection stops
   // a splash or a thin sheet from crossing a wall: the position clamp is the one measure the
   // dam break needs (docs/methods/isph.md); the other three are available but off.
-  info.default_wall_treatments = {"wall_position_clamp"};
+  info.default_wall_treatments = {"adami_wall_particles", "wall_position_clamp"};
+  // Every operator and the PPE also sum over wall samples: dummy_layers, mirror_particles,
+  // distance_function (docs/methods/isph.md, "Wall boundary models").
+  info.wall_samples = true;
+  info.wall_samples = true;  // its operators sum over wall samples (core/wall_samples.hpp)
   info.create = [](const MethodSetup& setup) { return std::make_unique<isph::IsphMethod>(setup); };
   registry.add(std::move(info));
 }

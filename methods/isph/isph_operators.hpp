@@ -8,6 +8,14 @@
 // every particle (default) or the summation density rho* of fluid particles and rho0 for
 // walls (parameter operator_density = summation, as Shao & Lo 2003).
 //
+// Wall samples (core/wall_samples.hpp): with a boundary model that has no wall particles
+// (dummy_layers, mirror_particles, distance_function) every operator adds, beside its sum over
+// the neighbours j of i, the same sum over the samples w of i: a sample is a particle of mass
+// m V_w and density rho0 at x_w, with velocity u_w = M_w u_s and pressure
+// p_w = p_s + rho0 g . (x_w - x_s) (s its source particle). An empty list (the default
+// boundary model, adami_wall_particles, whose wall particles are in the ParticleSet) adds
+// nothing; the overloads without a list are the operators of that model.
+//
 // References (full citations and equation numbers in docs/methods/isph.md):
 //   Monaghan (1992), Annu. Rev. Astron. Astrophys. 30, 543-574: summation density, symmetric
 //     pressure gradient, divergence.
@@ -24,18 +32,30 @@
 #include "core/neighbour_search.hpp"
 #include "core/particles.hpp"
 #include "core/sph_kernels.hpp"
+#include "core/wall_samples.hpp"
 
 namespace mps_lab::isph {
+
+// The empty sample list: the operators of a boundary model made of wall particles.
+inline const WallSampleList& no_wall_samples() {
+  static const WallSampleList empty;
+  return empty;
+}
 
 // The particle mass is m = rho0 / lattice_kernel_sum (core/sph_kernels.hpp): the summation
 // density of a particle with full support on the initial lattice is exactly rho0 (the SPH
 // counterpart of MPS's n0).
 
-// rho_i = m (W(0) + sum_j W_ij) over every non-ghost neighbour, fluid and wall (the summation
-// density, Monaghan 1992), for fluid particles; wall particles get rho0 (their
-// summation density is truncated by the outer layers and is never used as such).
-void summation_density(const ParticleSet& particles, const NeighbourList& neighbours, const SphKernel& kernel,
-                       double mass, double rest_density, std::vector<double>& density);
+// rho_i = m (W(0) + sum_j W_ij + sum_w V_w W_iw) over every non-ghost neighbour, fluid and wall,
+// and the wall samples (the summation density, Monaghan 1992), for fluid particles; wall
+// particles get rho0 (their summation density is truncated by the outer layers and is never
+// used as such).
+void summation_density(const ParticleSet& particles, const NeighbourList& neighbours, const WallSampleList& samples,
+                       const SphKernel& kernel, double mass, double rest_density, std::vector<double>& density);
+inline void summation_density(const ParticleSet& particles, const NeighbourList& neighbours, const SphKernel& kernel,
+                              double mass, double rest_density, std::vector<double>& density) {
+  summation_density(particles, neighbours, no_wall_samples(), kernel, mass, rest_density, density);
+}
 
 // The pair factor of the Cummins & Rudman / Morris Laplacians:
 //   F_ij = r_ij . grad W_ij / (|r_ij|^2 + eta^2)   (1/m^4, <= 0 inside the support)
@@ -53,30 +73,61 @@ inline double ppe_pair_coefficient(double mass, double density_i, double density
 
 // <div(grad phi / rho)>_i for every fluid particle (0 elsewhere), over every non-ghost
 // neighbour, with `values` the field phi. The operator the PPE matrix is assembled from
-// (the unit tests apply it to fields with known Laplacians).
-void ppe_laplacian(const ParticleSet& particles, const NeighbourList& neighbours, const SphKernel& kernel, double mass,
-                   const std::vector<double>& density, double eta2, const std::vector<double>& values,
-                   std::vector<double>& out);
+// (the unit tests apply it to fields with known Laplacians). A wall sample w carries
+// phi_w = phi_s + head . (x_w - x_s): head = rho0 g for the pressure (the PPE), 0 for a field
+// without hydrostatic extrapolation; its pair coefficient has mass m V_w and density rho0.
+void ppe_laplacian(const ParticleSet& particles, const NeighbourList& neighbours, const WallSampleList& samples,
+                   const SphKernel& kernel, double mass, const std::vector<double>& density, double rest_density,
+                   const Vec2& head, double eta2, const std::vector<double>& values, std::vector<double>& out);
+inline void ppe_laplacian(const ParticleSet& particles, const NeighbourList& neighbours, const SphKernel& kernel,
+                          double mass, const std::vector<double>& density, double eta2,
+                          const std::vector<double>& values, std::vector<double>& out) {
+  ppe_laplacian(particles, neighbours, no_wall_samples(), kernel, mass, density, 0.0, Vec2::Zero(), eta2, values, out);
+}
 
 // Adds nu <lap u>_i to the acceleration of every fluid particle (the laminar viscous term of
 // Morris, Fox & Zhu 1997, with mu = rho nu):
 //   sum_j m nu (rho_i + rho_j) / (rho_i rho_j) F_ij (u_i - u_j);
-// wall particles have u = 0 (no slip).
-void add_viscous_acceleration(const ParticleSet& particles, const NeighbourList& neighbours, const SphKernel& kernel,
-                              double mass, const std::vector<double>& density, double kinematic_viscosity, double eta2,
-                              std::vector<Vec2>& acceleration);
+// wall particles have u = 0 (no slip); a wall sample has u_w = M_w u_s (mass m V_w, rho0).
+void add_viscous_acceleration(const ParticleSet& particles, const NeighbourList& neighbours,
+                              const WallSampleList& samples, const SphKernel& kernel, double mass,
+                              const std::vector<double>& density, double rest_density, double kinematic_viscosity,
+                              double eta2, std::vector<Vec2>& acceleration);
+inline void add_viscous_acceleration(const ParticleSet& particles, const NeighbourList& neighbours,
+                                     const SphKernel& kernel, double mass, const std::vector<double>& density,
+                                     double kinematic_viscosity, double eta2, std::vector<Vec2>& acceleration) {
+  add_viscous_acceleration(particles, neighbours, no_wall_samples(), kernel, mass, density, 0.0, kinematic_viscosity,
+                           eta2, acceleration);
+}
 
 // <div u>_i = (1/rho_i) sum_j m (u_j - u_i) . grad W_ij (the divergence of Monaghan 1992 that
 // Cummins & Rudman 1999 use for the projection source) for fluid particles, 0 elsewhere.
 // `velocity` holds the velocity of every particle (walls included: see isph_method.cpp).
-void velocity_divergence(const ParticleSet& particles, const NeighbourList& neighbours, const SphKernel& kernel,
-                         double mass, const std::vector<double>& density, const std::vector<Vec2>& velocity,
+// A wall sample (mass m V_w) moves with u_w = b + M_w (u_s - b), b = `sample_base_velocity`:
+// the velocity map acts on the motion relative to b. b = 0 is u_w = M_w u_s; the method passes
+// b = dt g for the predicted velocity u*, the velocity a wall point at rest has in u* (as its
+// wall particles: isph_method.cpp, docs/methods/isph.md).
+void velocity_divergence(const ParticleSet& particles, const NeighbourList& neighbours, const WallSampleList& samples,
+                         const SphKernel& kernel, double mass, const std::vector<double>& density,
+                         const std::vector<Vec2>& velocity, const Vec2& sample_base_velocity,
                          std::vector<double>& out);
+inline void velocity_divergence(const ParticleSet& particles, const NeighbourList& neighbours,
+                                const SphKernel& kernel, double mass, const std::vector<double>& density,
+                                const std::vector<Vec2>& velocity, std::vector<double>& out) {
+  velocity_divergence(particles, neighbours, no_wall_samples(), kernel, mass, density, velocity, Vec2::Zero(), out);
+}
 
 // <div r>_i = -sum_j (m / rho_j) r_ij . grad W_ij (Lee et al. 2008, sec. 2.4), for fluid
-// particles, 0 elsewhere: ~2 inside the 2-D fluid, ~1 on a flat surface.
-void position_divergence(const ParticleSet& particles, const NeighbourList& neighbours, const SphKernel& kernel,
-                         double mass, const std::vector<double>& density, std::vector<double>& out);
+// particles, 0 elsewhere: ~2 inside the 2-D fluid, ~1 on a flat surface. Wall samples count
+// with m V_w / rho0.
+void position_divergence(const ParticleSet& particles, const NeighbourList& neighbours, const WallSampleList& samples,
+                         const SphKernel& kernel, double mass, const std::vector<double>& density,
+                         double rest_density, std::vector<double>& out);
+inline void position_divergence(const ParticleSet& particles, const NeighbourList& neighbours,
+                                const SphKernel& kernel, double mass, const std::vector<double>& density,
+                                std::vector<double>& out) {
+  position_divergence(particles, neighbours, no_wall_samples(), kernel, mass, density, 0.0, out);
+}
 
 enum class PressureGradientForm {
   Symmetric,   // grad p_i / rho_i = sum_j m (p_i/rho_i^2 + p_j/rho_j^2) grad W_ij (Monaghan 1992; Shao & Lo 2003)
@@ -95,11 +146,32 @@ enum class PressureGradientForm {
 // "symmetric" | "difference" | "corrected" | "symmetric_corrected_surface"
 PressureGradientForm pressure_gradient_form_from_name(const std::string& name);
 
+// How a wall sample's pressure enters the gradient: p_w = p_s + rho0 g . (x_w - x_s), and
+// max(p_w, 0) when negative pressures are clamped (as the method clamps wall particles'
+// pressures after the solve: a wall above the water whose extrapolated pressure is negative
+// would pull the fluid towards it).
+struct SamplePressure {
+  double rest_density = 1000.0;     // rho0, kg/m^3: the density of a sample
+  Vec2 gravity = Vec2(0.0, -9.81);  // m/s^2
+  bool clamp_negative = true;
+};
+
 // Writes a_i = -grad p_i / rho_i for fluid particles (0 elsewhere) from particles.pressure,
-// over every non-ghost neighbour (wall particles carry their extrapolated pressure).
-// `free_surface[i]` != 0 marks surface particles (read by SymmetricCorrectedSurface only).
-void pressure_acceleration(const ParticleSet& particles, const NeighbourList& neighbours, const SphKernel& kernel,
-                           double mass, const std::vector<double>& density, const std::vector<double>& free_surface,
-                           PressureGradientForm form, std::vector<Vec2>& acceleration);
+// over every non-ghost neighbour (wall particles carry their extrapolated pressure) and the
+// wall samples (mass m V_w, density rho0, pressure by `sample_rule`; in the
+// renormalisation matrix too). `free_surface[i]` != 0 marks surface particles (read by
+// SymmetricCorrectedSurface only).
+void pressure_acceleration(const ParticleSet& particles, const NeighbourList& neighbours,
+                           const WallSampleList& samples, const SamplePressure& sample_rule,
+                           const SphKernel& kernel, double mass, const std::vector<double>& density,
+                           const std::vector<double>& free_surface, PressureGradientForm form,
+                           std::vector<Vec2>& acceleration);
+inline void pressure_acceleration(const ParticleSet& particles, const NeighbourList& neighbours,
+                                  const SphKernel& kernel, double mass, const std::vector<double>& density,
+                                  const std::vector<double>& free_surface, PressureGradientForm form,
+                                  std::vector<Vec2>& acceleration) {
+  pressure_acceleration(particles, neighbours, no_wall_samples(), SamplePressure{}, kernel, mass, density,
+                        free_surface, form, acceleration);
+}
 
 }  // namespace mps_lab::isph

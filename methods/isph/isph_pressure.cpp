@@ -71,15 +71,16 @@ Preconditioner preconditioner_from_name(const std::string& name) {
 }
 
 void PressurePoissonSolver::assemble(const ParticleSet& particles, const NeighbourList& neighbours,
-                                     const SphKernel& kernel, const std::vector<double>& density,
-                                     const std::vector<double>& source, const PressureSolveSettings& settings,
-                                     std::vector<char>& grounded) {
+                                     const WallSampleList& samples, const SphKernel& kernel,
+                                     const std::vector<double>& density, const std::vector<double>& source,
+                                     const PressureSolveSettings& settings, std::vector<char>& grounded) {
   const auto unknowns = static_cast<Eigen::Index>(particle_of_.size());
   const double fluid_scale = settings.rest_density * settings.spacing * settings.spacing;  // kg/m: rows in Pa
   triplets_.clear();
   rhs_.resize(unknowns);
   guess_.resize(unknowns);
   grounded.assign(static_cast<std::size_t>(unknowns), 0);
+  const bool with_samples = samples.has_samples();
   for (Eigen::Index row = 0; row < unknowns; ++row) {
     const auto i = static_cast<std::size_t>(particle_of_[static_cast<std::size_t>(row)]);
     const auto row_index = static_cast<int>(row);
@@ -101,12 +102,35 @@ void PressurePoissonSolver::assemble(const ParticleSet& particles, const Neighbo
           grounded[static_cast<std::size_t>(row)] = 1;  // a surface neighbour, p = 0
         }
       }
+      // Wall samples: a_iw (p_i - p_s - rho0 g . (x_w - x_s)); the hydrostatic part is known.
+      double wall_head = 0.0;  // sum_w a_iw rho0 g . (x_w - x_s), Pa
+      if (with_samples) {
+        for (std::uint32_t k = samples.begin(i); k < samples.end(i); ++k) {
+          const WallSample& wall = samples.samples[k];
+          const std::uint32_t s = wall.source;
+          if (particles.type[s] == ParticleType::Ghost) continue;
+          const double factor = laplacian_pair_factor(kernel, particles.position[i] - wall.position, settings.eta2);
+          const double a = fluid_scale * ppe_pair_coefficient(settings.mass * wall.volume, density[i],
+                                                              settings.rest_density, factor);
+          if (a == 0.0) continue;
+          wall_head +=
+              a * sample_pressure_offset(wall, particles.position, settings.rest_density, settings.gravity);
+          if (s == i) continue;  // p_w - p_i = the hydrostatic part alone
+          diagonal += a;
+          if (row_of_[s] >= 0) {
+            triplets_.emplace_back(row_index, row_of_[s], -a);
+          } else {
+            grounded[static_cast<std::size_t>(row)] = 1;  // the image of a surface particle, p_s = 0
+          }
+        }
+      }
       if (diagonal == 0.0) {  // no neighbour within the support: p = 0
         diagonal = 1.0;
         grounded[static_cast<std::size_t>(row)] = 1;
         rhs_[row] = 0.0;
       } else {
         rhs_[row] = -fluid_scale * source[i];
+        if (with_samples) rhs_[row] += wall_head;
       }
       triplets_.emplace_back(row_index, row_index, diagonal);
     } else {
@@ -141,7 +165,8 @@ void PressurePoissonSolver::assemble(const ParticleSet& particles, const Neighbo
 }
 
 PressureSolveResult PressurePoissonSolver::solve(ParticleSet& particles, const NeighbourList& neighbours,
-                                                 const SphKernel& kernel, const std::vector<double>& density,
+                                                 const WallSampleList& samples, const SphKernel& kernel,
+                                                 const std::vector<double>& density,
                                                  const std::vector<double>& free_surface,
                                                  const std::vector<double>& source,
                                                  const PressureSolveSettings& settings) {
@@ -181,7 +206,7 @@ PressureSolveResult PressurePoissonSolver::solve(ParticleSet& particles, const N
   if (particle_of_.empty()) return result;
 
   std::vector<char> grounded;
-  assemble(particles, neighbours, kernel, density, source, settings, grounded);
+  assemble(particles, neighbours, samples, kernel, density, source, settings, grounded);
   std::vector<char> is_fluid_row(particle_of_.size(), 0);
   for (std::size_t row = 0; row < result.fluid_unknowns; ++row) is_fluid_row[row] = 1;
   result.ungrounded_groups = regularise_ungrounded_groups(matrix_, grounded, is_fluid_row);

@@ -15,6 +15,15 @@
 // the fluid pressure around it plus the hydrostatic head between them, which is the pressure
 // a wall must carry for the fluid next to it to have no wall-normal acceleration.
 //
+// Wall samples (core/wall_samples.hpp; boundary models without wall particles, then there are
+// no wall rows): fluid row i also sums a_iw (p_i - p_w) over its samples w, a_iw the pair
+// coefficient with mass m V_w and density rho0, p_w = p_s + rho0 g . (x_w - x_s):
+//   s = i (dummy layers, distance function): the p terms cancel, a_iw rho0 g . (x_w - x_i)
+//          goes to the right-hand side (a Neumann wall: nothing on the diagonal);
+//   s != i an unknown (a mirror image of fluid particle s): A_ii += a_iw, A_is -= a_iw, and
+//          the hydrostatic part a_iw rho0 g . (x_w - x_s) to the right-hand side;
+//   s on the free surface (p_s = 0): A_ii += a_iw and the hydrostatic part only.
+//
 // Every row is scaled to pascals (fluid rows by rho0 l0^2, wall rows by 1 / sum_f W_wf), so the
 // relative residual ||b - A p|| / ||b|| weighs all rows alike. The wall rows make A
 // non-symmetric: BiCGSTAB (Eigen) with a diagonal or incomplete-LU preconditioner.
@@ -26,6 +35,7 @@
 #include "core/neighbour_search.hpp"
 #include "core/particles.hpp"
 #include "core/sph_kernels.hpp"
+#include "core/wall_samples.hpp"
 
 namespace mps_lab::isph {
 
@@ -60,9 +70,16 @@ class PressurePoissonSolver {
   // surface fluid, for walls without fluid neighbours and for ghosts). `density` as in
   // isph_operators.hpp; `free_surface[i]` != 0 marks Dirichlet fluid particles; `source[i]`
   // is S_i of fluid row i, 1/s^2.
+  // `samples`: the boundary model's wall samples (empty for wall particles).
+  PressureSolveResult solve(ParticleSet& particles, const NeighbourList& neighbours, const WallSampleList& samples,
+                            const SphKernel& kernel, const std::vector<double>& density,
+                            const std::vector<double>& free_surface, const std::vector<double>& source,
+                            const PressureSolveSettings& settings);
   PressureSolveResult solve(ParticleSet& particles, const NeighbourList& neighbours, const SphKernel& kernel,
                             const std::vector<double>& density, const std::vector<double>& free_surface,
-                            const std::vector<double>& source, const PressureSolveSettings& settings);
+                            const std::vector<double>& source, const PressureSolveSettings& settings) {
+    return solve(particles, neighbours, WallSampleList{}, kernel, density, free_surface, source, settings);
+  }
 
   // The last assembled system and its unknowns (for tests).
   const Eigen::SparseMatrix<double, Eigen::RowMajor>& matrix() const { return matrix_; }
@@ -71,8 +88,8 @@ class PressurePoissonSolver {
   const std::vector<int>& particle_of_row() const { return particle_of_; }
 
  private:
-  void assemble(const ParticleSet& particles, const NeighbourList& neighbours, const SphKernel& kernel,
-                const std::vector<double>& density, const std::vector<double>& source,
+  void assemble(const ParticleSet& particles, const NeighbourList& neighbours, const WallSampleList& samples,
+                const SphKernel& kernel, const std::vector<double>& density, const std::vector<double>& source,
                 const PressureSolveSettings& settings, std::vector<char>& grounded);
 
   std::vector<int> row_of_;
