@@ -19,27 +19,19 @@
 
 #include "core/scene.hpp"
 #include "core/wall_geometry.hpp"
+#include "core/wall_sample_model.hpp"
 #include "core/wall_treatment.hpp"
 
 namespace mps_lab {
 namespace {
 
-class DistanceFunction final : public WallTreatment {
+class DistanceFunction final : public WallSampleModel {
  public:
   explicit DistanceFunction(const WallTreatmentSetup& setup)
-      : geometry_(setup.scene),
+      : WallSampleModel(setup),
         spacing_(setup.scene.particle_spacing),
         points_per_spacing_(static_cast<int>(setup.parameters.integer("quadrature_points"))),
-        free_slip_(setup.parameters.string("velocity") == "free_slip"),
-        reflect_(setup.parameters.string("crossing") == "reflect") {}
-
-  // Kinematic no-penetration (core/wall_geometry.hpp), unless crossing = "none".
-  void after_explicit_position(WallContext& context) override {
-    if (reflect_) reflect_crossed_particles(context.particles, geometry_);
-  }
-  void after_correction(WallContext& context) override {
-    if (reflect_) reflect_crossed_particles(context.particles, geometry_);
-  }
+        free_slip_(setup.parameters.string("velocity") == "free_slip") {}
 
   void build_wall_samples(const WallContext& context, WallSampleList& samples) override {
     const ParticleSet& particles = context.particles;
@@ -87,11 +79,9 @@ class DistanceFunction final : public WallTreatment {
   }
 
  private:
-  WallGeometry geometry_;
   double spacing_;  // l0, m
   int points_per_spacing_;
   bool free_slip_;
-  bool reflect_;
 };
 
 }  // namespace
@@ -114,11 +104,7 @@ void mps_lab_register_wall_treatment_distance_function(mps_lab::WallTreatmentReg
       string_parameter("velocity", "no_slip", "wall velocity seen by the fluid: no_slip (0) or free_slip (mirror of u_i)")
           .one_of({"no_slip", "free_slip"}),
   };
-  info.parameters.push_back(
-      string_parameter("crossing", "none",
-                       "a fluid particle behind the wall surface: reflect it back and stop its motion into the wall "
-                       "(kinematic no-penetration), or none")
-          .one_of({"reflect", "none"}));
+  info.parameters.push_back(crossing_parameter("none"));
   info.role = WallTreatmentRole::Boundary;
   info.wall_particles = false;
   info.create = [](const WallTreatmentSetup& setup) { return std::make_unique<DistanceFunction>(setup); };

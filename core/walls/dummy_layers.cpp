@@ -12,27 +12,20 @@
 #include "core/point_grid.hpp"
 #include "core/wall_geometry.hpp"
 #include "core/scene.hpp"
+#include "core/wall_sample_model.hpp"
 #include "core/wall_treatment.hpp"
 
 namespace mps_lab {
 namespace {
 
-class DummyLayers final : public WallTreatment {
+class DummyLayers final : public WallSampleModel {
  public:
   explicit DummyLayers(const WallTreatmentSetup& setup)
-      : geometry_(setup.scene), reflect_(setup.parameters.string("crossing") == "reflect"), support_(0.0) {
+      : WallSampleModel(setup), support_(0.0) {
     const ParticleSet lattice = build_particles(setup.scene, true);
     for (std::size_t k = 0; k < lattice.size(); ++k) {
       if (lattice.type[k] == ParticleType::Wall) wall_points_.push_back(lattice.position[k]);
     }
-  }
-
-  // Kinematic no-penetration (core/wall_geometry.hpp), unless crossing = "none".
-  void after_explicit_position(WallContext& context) override {
-    if (reflect_) reflect_crossed_particles(context.particles, geometry_);
-  }
-  void after_correction(WallContext& context) override {
-    if (reflect_) reflect_crossed_particles(context.particles, geometry_);
   }
 
   void build_wall_samples(const WallContext& context, WallSampleList& samples) override {
@@ -57,8 +50,6 @@ class DummyLayers final : public WallTreatment {
   }
 
  private:
-  WallGeometry geometry_;
-  bool reflect_;
   std::vector<Vec2> wall_points_;  // m
   PointGrid grid_;
   double support_;  // m, the support the grid was built for
@@ -74,11 +65,7 @@ void mps_lab_register_wall_treatment_dummy_layers(mps_lab::WallTreatmentRegistry
   info.description =
       "fixed dummy wall layers carrying the fluid pressure extrapolated hydrostatically (MPS; Adami et al. 2012 for SPH)";
   info.methods = {};  // every method that sums over wall samples (MethodInfo::wall_samples)
-  info.parameters.push_back(
-      string_parameter("crossing", "reflect",
-                       "a fluid particle behind the wall surface: reflect it back and stop its motion into the wall "
-                       "(kinematic no-penetration), or none")
-          .one_of({"reflect", "none"}));
+  info.parameters.push_back(crossing_parameter("reflect"));
   info.role = WallTreatmentRole::Boundary;
   info.wall_particles = false;
   info.create = [](const WallTreatmentSetup& setup) { return std::make_unique<DummyLayers>(setup); };

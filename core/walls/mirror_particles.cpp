@@ -14,6 +14,7 @@
 
 #include "core/scene.hpp"
 #include "core/wall_geometry.hpp"
+#include "core/wall_sample_model.hpp"
 #include "core/wall_treatment.hpp"
 
 namespace mps_lab {
@@ -24,12 +25,10 @@ struct Image {
   Mat2 velocity_map;
 };
 
-class MirrorParticles final : public WallTreatment {
+class MirrorParticles final : public WallSampleModel {
  public:
   explicit MirrorParticles(const WallTreatmentSetup& setup)
-      : geometry_(setup.scene),
-        no_slip_(setup.parameters.string("velocity") == "no_slip"),
-        reflect_(setup.parameters.string("crossing") == "reflect") {
+      : WallSampleModel(setup), no_slip_(setup.parameters.string("velocity") == "no_slip") {
     // Corners: pairs of perpendicular surfaces that share an end point, the fluid inside the angle.
     const auto& segments = geometry_.segments();
     const double tolerance = 1e-9 * setup.scene.particle_spacing;
@@ -43,14 +42,6 @@ class MirrorParticles final : public WallTreatment {
         }
       }
     }
-  }
-
-  // Kinematic no-penetration (core/wall_geometry.hpp), unless crossing = "none".
-  void after_explicit_position(WallContext& context) override {
-    if (reflect_) reflect_crossed_particles(context.particles, geometry_);
-  }
-  void after_correction(WallContext& context) override {
-    if (reflect_) reflect_crossed_particles(context.particles, geometry_);
   }
 
   void build_wall_samples(const WallContext& context, WallSampleList& samples) override {
@@ -122,9 +113,7 @@ class MirrorParticles final : public WallTreatment {
     std::size_t a, b;  // the two surfaces
     Vec2 point;        // m
   };
-  WallGeometry geometry_;
   bool no_slip_;
-  bool reflect_;
   std::vector<Corner> corners_;
   std::vector<std::uint32_t> image_offsets_;
   std::vector<Image> images_;
@@ -142,11 +131,7 @@ void mps_lab_register_wall_treatment_mirror_particles(mps_lab::WallTreatmentRegi
   info.parameters = {string_parameter("velocity", "free_slip",
                                       "image velocity: free_slip (normal part reversed) or no_slip (reversed)")
                          .one_of({"free_slip", "no_slip"})};
-  info.parameters.push_back(
-      string_parameter("crossing", "reflect",
-                       "a fluid particle behind the wall surface: reflect it back and stop its motion into the wall "
-                       "(kinematic no-penetration), or none")
-          .one_of({"reflect", "none"}));
+  info.parameters.push_back(crossing_parameter("reflect"));
   info.role = WallTreatmentRole::Boundary;
   info.wall_particles = false;
   info.create = [](const WallTreatmentSetup& setup) { return std::make_unique<MirrorParticles>(setup); };
