@@ -48,7 +48,10 @@ std::string stop_reason() {
 }
 
 // The exit code of a finished run (or resumed run), with its one line on stderr or stdout.
-int report_run(const RunResult& result, bool quiet) {
+int report_run(const RunResult& result, bool quiet, bool profile) {
+  if (profile && result.summary.contains("profile")) {
+    std::fputs(profile_table(result.summary["profile"]).c_str(), stdout);
+  }
   if (result.status == "interrupted") {
     std::fprintf(stderr, "mps_lab: run %s; state in %s/checkpoint.bin\n", result.message.c_str(),
                  result.directory.c_str());
@@ -71,13 +74,13 @@ int report_run(const RunResult& result, bool quiet) {
 }
 
 // A run or a resumed run: the registries, the stop handlers, the run, its report.
-int run_with_options(RunOptions options, bool quiet) {
+int run_with_options(RunOptions options, bool quiet, bool profile) {
   const MethodRegistry methods = builtin_methods();
   const WallTreatmentRegistry walls = builtin_wall_treatments();
   options.progress = !quiet;
   options.stop_reason = stop_reason;
   install_stop_handlers();
-  return report_run(run_simulation(options, methods, walls), quiet);
+  return report_run(run_simulation(options, methods, walls), quiet, profile);
 }
 
 }  // namespace
@@ -90,7 +93,7 @@ int run_command(const RunCommand& command) {
   options.overrides = command.set;
   options.end_time = command.end_time;
   options.checkpoint_every_steps = command.checkpoint_every;
-  return run_with_options(options, command.quiet);
+  return run_with_options(options, command.quiet, command.profile);
 }
 
 int resume_command(const ResumeCommand& command) {
@@ -98,7 +101,7 @@ int resume_command(const ResumeCommand& command) {
   options.resume_directory = command.directory;
   options.end_time = command.end_time;
   options.checkpoint_every_steps = command.checkpoint_every;
-  return run_with_options(options, command.quiet);
+  return run_with_options(options, command.quiet, command.profile);
 }
 
 namespace {

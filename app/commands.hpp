@@ -16,6 +16,7 @@ struct RunCommand {
   std::optional<double> end_time;
   std::optional<long long> checkpoint_every;
   bool quiet = false;
+  bool profile = false;  // print the per-phase profile (run.json "profile") at the end
 };
 
 struct ResumeCommand {
@@ -23,6 +24,7 @@ struct ResumeCommand {
   std::optional<double> end_time;
   std::optional<long long> checkpoint_every;
   bool quiet = false;
+  bool profile = false;  // print the per-phase profile (run.json "profile") at the end
 };
 
 struct CompareCommand {

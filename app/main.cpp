@@ -1,7 +1,7 @@
 // mps_lab: command-line front end of the testbed.
 //   mps_lab run --method=mps scenes/dambreak.json [--out DIR] [--set key=value]... [--end-time T]
-//               [--checkpoint-every N]
-//   mps_lab resume DIR [--end-time T] [--checkpoint-every N]
+//               [--checkpoint-every N] [--profile]
+//   mps_lab resume DIR [--end-time T] [--checkpoint-every N] [--profile]
 //   mps_lab compare scenes/dambreak.json [--methods mps,isph,dfsph] [--out runs/dambreak]
 //   mps_lab methods [--parameters]
 #include <cstdio>
@@ -30,6 +30,9 @@ int main(int argc, char** argv) {
                       "write the full state to <out>/checkpoint.bin every N steps, for `mps_lab resume` "
                       "(overrides output.checkpoint_every_steps; 0: only when stopped by Ctrl-C/SIGTERM)");
   run_app->add_flag("--quiet,-q", run.quiet, "no progress line and no summary line");
+  run_app->add_flag("--profile", run.profile,
+                    "print where the time went at the end: seconds, share and ms per step of each phase "
+                    "(also in run.json \"profile\" of every run)");
 
   mps_lab::app::ResumeCommand resume;
   auto* resume_app = app.add_subcommand(
@@ -41,6 +44,7 @@ int main(int argc, char** argv) {
   resume_app->add_option("--checkpoint-every", resume.checkpoint_every,
                          "checkpoint every N steps (default: as the run did)");
   resume_app->add_flag("--quiet,-q", resume.quiet, "no progress line and no summary line");
+  resume_app->add_flag("--profile", resume.profile, "print the per-phase profile of this session at the end");
 
   mps_lab::app::CompareCommand compare;
   auto* compare_app = app.add_subcommand(

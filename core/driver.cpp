@@ -66,10 +66,13 @@ Simulation::Simulation(const Scene& scene, const MethodInfo& info)
       monitor_(scene, scene.stability) {
   for (const auto& field : info.fields) particles_.add_field(field.name);
   const MethodConfig& config = scene.method_config(info.name);
-  method_ = info.create(MethodSetup{scene, config.parameters, config.wall_treatments});
+  method_ = info.create(MethodSetup{scene, config.parameters, config.wall_treatments, &timers_});
   check_all_read(config.parameters, "method '" + info.name + "'");
   method_->initialise(particles_);
   monitor_.start(particles_);
+  timers_.reset();  // initialise() may have timed phases: they count as setup
+  timers_.add(timers_.phase("setup"),
+              std::chrono::duration<double>(PhaseTimers::Clock::now() - setup_started_).count());
 }
 
 const StepReport& Simulation::advance() {
@@ -95,6 +98,7 @@ const StepReport& Simulation::advance() {
   last_dt_ = dt;
   total_iterations_ += report_.solver_iterations;
   max_iterations_ = std::max(max_iterations_, report_.solver_iterations);
+  const auto timed = timers_.measure(diagnostics_phase_);
   monitor_.check_step(particles_, report_, steps_, time_, dt);  // throws RunStopped
   return report_;
 }
@@ -397,8 +401,15 @@ RunResult run_simulation(const RunOptions& options, const MethodRegistry& method
   summary["status"] = "running";
   output.write_summary(summary);
 
+  PhaseTimers& timers = simulation.timers();
+  const PhaseTimers::Id output_phase = timers.phase("output");
+  const PhaseTimers::Id diagnostics_phase = timers.phase("diagnostics");
   const auto record = [&](bool frame) {
-    const FlowMeasures measures = measure_flow(simulation.particles(), scene);
+    const FlowMeasures measures = [&] {
+      const auto timed = timers.measure(diagnostics_phase);
+      return measure_flow(simulation.particles(), scene);
+    }();
+    const auto timed = timers.measure(output_phase);
     const StepReport& report = simulation.last_report();
     std::vector<double> row = {static_cast<double>(simulation.steps()),
                                simulation.time(),
@@ -441,6 +452,7 @@ RunResult run_simulation(const RunOptions& options, const MethodRegistry& method
   // bookkeeping; run.json then says where the run stands.
   long long checkpoint_step = resuming ? simulation.steps() : -1;
   const auto write_checkpoint = [&] {
+    const auto timed = timers.measure(output_phase);
     CheckpointWriter checkpoint;
     simulation.save_checkpoint(checkpoint);
     checkpoint.begin_section("run");
@@ -554,6 +566,9 @@ RunResult run_simulation(const RunOptions& options, const MethodRegistry& method
   summary["fluid_particle_steps_per_second"] =
       result.wall_seconds > 0 ? static_cast<double>(initial.fluid) * static_cast<double>(result.steps) / result.wall_seconds
                               : 0.0;
+  // This session's phases (a resumed run profiles the steps since it resumed).
+  summary["profile"] = profile_json(timers, seconds_since(started), simulation.steps() - first_step, initial.fluid);
+  summary["profile"]["threads"] = omp_get_max_threads();
   output.write_summary(summary);
   result.summary = summary;
   return result;

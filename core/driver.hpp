@@ -15,6 +15,7 @@
 
 #include "core/diagnostics.hpp"
 #include "core/method.hpp"
+#include "core/profile.hpp"
 #include "core/scene.hpp"
 #include "core/stability.hpp"
 
@@ -36,6 +37,11 @@ class Simulation {
   const MethodInfo& method_info() const { return info_; }
   const Method& method() const { return *method_; }
   const StabilityMonitor& monitor() const { return monitor_; }
+  // Per-phase timers of this process's steps (core/profile.hpp): "setup" (particles and the
+  // method's initialisation), the method's phases and "diagnostics" (the stability monitor).
+  // Not part of a checkpoint: a resumed run profiles its own session.
+  PhaseTimers& timers() { return timers_; }
+  const PhaseTimers& timers() const { return timers_; }
   ParticleSet& particles() { return particles_; }
   const ParticleSet& particles() const { return particles_; }
   double time() const { return time_; }
@@ -56,6 +62,9 @@ class Simulation {
   void restore_checkpoint(CheckpointReader& in);
 
  private:
+  PhaseTimers timers_;  // first: the constructor's own time is its "setup" phase
+  PhaseTimers::Clock::time_point setup_started_ = PhaseTimers::Clock::now();
+  PhaseTimers::Id diagnostics_phase_ = timers_.phase("diagnostics");
   const Scene& scene_;
   const MethodInfo& info_;
   ParticleSet particles_;

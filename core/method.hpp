@@ -18,6 +18,7 @@
 
 #include "core/parameters.hpp"
 #include "core/particles.hpp"
+#include "core/profile.hpp"
 #include "core/wall_treatment.hpp"
 
 namespace mps_lab {
@@ -73,6 +74,9 @@ struct MethodSetup {
   const Scene& scene;
   const ParameterValues& parameters;
   std::vector<WallTreatmentChoice> wall_treatments;
+  // The run's per-phase timers (core/profile.hpp); null outside a run. A method times its
+  // phases with them and hands them to its WallTreatmentSet.
+  PhaseTimers* timers = nullptr;
 };
 
 struct MethodInfo {

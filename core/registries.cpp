@@ -54,7 +54,9 @@ std::vector<const WallTreatmentInfo*> WallTreatmentRegistry::all() const {
   return out;
 }
 
-WallTreatmentSet::WallTreatmentSet(const std::vector<WallTreatmentChoice>& choices, const Scene& scene) {
+WallTreatmentSet::WallTreatmentSet(const std::vector<WallTreatmentChoice>& choices, const Scene& scene,
+                                   PhaseTimers* timers)
+    : timers_(timers), phase_(phase_id(timers, "wall_treatment")) {
   std::vector<const WallTreatmentChoice*> enabled;
   for (const auto& choice : choices) {
     if (choice.enabled) enabled.push_back(&choice);
@@ -75,6 +77,7 @@ WallTreatmentSet::WallTreatmentSet(const std::vector<WallTreatmentChoice>& choic
 }
 
 void WallTreatmentSet::build_wall_samples(const WallContext& context, WallSampleList& samples) {
+  const auto timed = measure(timers_, phase_);
   if (boundary_ == nullptr || wall_particles_) {
     samples.clear();
     return;
@@ -95,15 +98,19 @@ const WallTreatmentChoice* boundary_choice(const std::vector<WallTreatmentChoice
 }
 
 void WallTreatmentSet::after_explicit_velocity(WallContext& context) {
+  const auto timed = measure(timers_, phase_);
   for (auto& member : members_) member.second->after_explicit_velocity(context);
 }
 void WallTreatmentSet::after_explicit_position(WallContext& context) {
+  const auto timed = measure(timers_, phase_);
   for (auto& member : members_) member.second->after_explicit_position(context);
 }
 void WallTreatmentSet::after_neighbour_search(WallContext& context) {
+  const auto timed = measure(timers_, phase_);
   for (auto& member : members_) member.second->after_neighbour_search(context);
 }
 void WallTreatmentSet::after_correction(WallContext& context) {
+  const auto timed = measure(timers_, phase_);
   for (auto& member : members_) member.second->after_correction(context);
 }
 

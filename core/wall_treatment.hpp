@@ -24,6 +24,7 @@
 #include "core/neighbour_search.hpp"
 #include "core/parameters.hpp"
 #include "core/particles.hpp"
+#include "core/profile.hpp"
 #include "core/wall_samples.hpp"
 
 namespace mps_lab {
@@ -117,7 +118,10 @@ struct WallTreatmentChoice {
 class WallTreatmentSet {
  public:
   WallTreatmentSet() = default;
-  WallTreatmentSet(const std::vector<WallTreatmentChoice>& choices, const Scene& scene);
+  // Every hook and build_wall_samples are timed as the phase "wall_treatment" of `timers`
+  // (core/profile.hpp) when it is not null.
+  WallTreatmentSet(const std::vector<WallTreatmentChoice>& choices, const Scene& scene,
+                   PhaseTimers* timers = nullptr);
   void after_explicit_velocity(WallContext& context);
   void after_explicit_position(WallContext& context);
   void after_neighbour_search(WallContext& context);
@@ -135,6 +139,8 @@ class WallTreatmentSet {
 
  private:
   std::vector<std::pair<std::string, std::unique_ptr<WallTreatment>>> members_;
+  PhaseTimers* timers_ = nullptr;
+  PhaseTimers::Id phase_ = 0;
   WallTreatment* boundary_ = nullptr;
   std::string boundary_name_;
   bool wall_particles_ = true;

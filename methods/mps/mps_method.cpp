@@ -25,7 +25,13 @@ namespace {
 class MpsMethod final : public Method {
  public:
   explicit MpsMethod(const MethodSetup& setup)
-      : scene_(setup.scene), walls_(setup.wall_treatments, setup.scene) {
+      : scene_(setup.scene),
+        walls_(setup.wall_treatments, setup.scene, setup.timers),
+        timers_(setup.timers),
+        search_phase_(phase_id(timers_, "neighbour_search")),
+        operators_phase_(phase_id(timers_, "operators")),
+        solve_phase_(phase_id(timers_, "pressure_solve")),
+        integration_phase_(phase_id(timers_, "integration")) {
     const auto& p = setup.parameters;
     const double l0 = scene_.particle_spacing;
     const double r_min = p.number("r_min") * l0;
@@ -59,7 +65,7 @@ class MpsMethod final : public Method {
     }
     acceleration_.assign(n, Vec2::Zero());
     WallContext context{particles, &neighbours_, 0.0, scene_};
-    search(particles, context);
+    search_with_samples(particles, context);
     number_density(particles, neighbours_, samples_, density_radius_, particles.field("number_density"));
   }
 
@@ -74,47 +80,69 @@ class MpsMethod final : public Method {
 
     // --- 5.1 explicit step -------------------------------------------------------------
     const Vec2 gravity = scene_.physics.gravity;
-    std::fill(acceleration_.begin(), acceleration_.end(), Vec2::Zero());
+    {
+      const auto timed = measure(timers_, operators_phase_);
 #pragma omp parallel for schedule(static)
-    for (std::ptrdiff_t i = 0; i < count; ++i) {
-      if (particles.type[i] == ParticleType::Fluid) acceleration_[i] = gravity;  // 5.1-1
+      for (std::ptrdiff_t i = 0; i < count; ++i) {
+        acceleration_[i] = particles.type[i] == ParticleType::Fluid ? gravity : Vec2::Zero();  // 5.1-1
+      }
+      if (scene_.physics.kinematic_viscosity > 0.0) {  // 5.1-2 (costs nothing when nu = 0)
+        add_viscous_acceleration(particles, neighbours_, samples_, laplacian_radius_,
+                                 scene_.physics.kinematic_viscosity, acceleration_);
+      }
     }
-    if (scene_.physics.kinematic_viscosity > 0.0) {  // 5.1-2 (costs nothing when nu = 0)
-      add_viscous_acceleration(particles, neighbours_, samples_, laplacian_radius_,
-                               scene_.physics.kinematic_viscosity, acceleration_);
-    }
+    {
+      const auto timed = measure(timers_, integration_phase_);
 #pragma omp parallel for schedule(static)
-    for (std::ptrdiff_t i = 0; i < count; ++i) {
-      if (particles.type[i] == ParticleType::Fluid) particles.velocity[i] += dt * acceleration_[i];  // 5.1-3
+      for (std::ptrdiff_t i = 0; i < count; ++i) {
+        if (particles.type[i] == ParticleType::Fluid) particles.velocity[i] += dt * acceleration_[i];  // 5.1-3
+      }
     }
     walls_.after_explicit_velocity(context);  // 5.1-4 CFL clamp
+    {
+      const auto timed = measure(timers_, integration_phase_);
 #pragma omp parallel for schedule(static)
-    for (std::ptrdiff_t i = 0; i < count; ++i) {
-      if (particles.type[i] == ParticleType::Fluid) particles.position[i] += dt * particles.velocity[i];  // 5.1-5
+      for (std::ptrdiff_t i = 0; i < count; ++i) {
+        if (particles.type[i] == ParticleType::Fluid) particles.position[i] += dt * particles.velocity[i];  // 5.1-5
+      }
+      fix_walls(particles);                   // 5.1-6
     }
-    fix_walls(particles);                     // 5.1-6
     walls_.after_explicit_position(context);  // 5.1-7 position clamp
 
     // --- 5.2 implicit step -------------------------------------------------------------
-    search(particles, context);               // 5.2-1 (and the wall samples at r*)
+    search_with_samples(particles, context);  // 5.2-1 (and the wall samples at r*)
     walls_.after_neighbour_search(context);   // 5.2-2 repulsion, 5.2-3 collision
     auto& n_star = particles.field("number_density");
-    number_density(particles, neighbours_, samples_, density_radius_, n_star);  // 5.2-4
-    const PressureSolveResult solve =                                  // 5.2-5 .. 5.2-7
-        ppe_.solve(particles, neighbours_, samples_, n_star, carries_pressure_, laplacian_radius_, density_radius_.n0,
-                   dt, settings_, particles.field("free_surface"));
-    if (!solve.converged) ++nonconverged_solves_;  // the stability monitor records it (StepReport)
-    pressure_acceleration(particles, neighbours_, samples_, gradient_radius_, carries_pressure_,
-                          scene_.physics.density, scene_.physics.gravity, min_includes_self_, acceleration_);
-#pragma omp parallel for schedule(static)
-    for (std::ptrdiff_t i = 0; i < count; ++i) {  // 5.2-8
-      if (particles.type[i] != ParticleType::Fluid) continue;
-      particles.velocity[i] += dt * acceleration_[i];
-      particles.position[i] += dt * (dt * acceleration_[i]);
+    {
+      const auto timed = measure(timers_, operators_phase_);
+      number_density(particles, neighbours_, samples_, density_radius_, n_star);  // 5.2-4
     }
-    fix_walls(particles);                // 5.2-9
+    const PressureSolveResult solve = [&] {                           // 5.2-5 .. 5.2-7
+      const auto timed = measure(timers_, solve_phase_);
+      return ppe_.solve(particles, neighbours_, samples_, n_star, carries_pressure_, laplacian_radius_,
+                        density_radius_.n0, dt, settings_, particles.field("free_surface"));
+    }();
+    if (!solve.converged) ++nonconverged_solves_;  // the stability monitor records it (StepReport)
+    {
+      const auto timed = measure(timers_, operators_phase_);
+      pressure_acceleration(particles, neighbours_, samples_, gradient_radius_, carries_pressure_,
+                            scene_.physics.density, scene_.physics.gravity, min_includes_self_, acceleration_);
+    }
+    {
+      const auto timed = measure(timers_, integration_phase_);
+#pragma omp parallel for schedule(static)
+      for (std::ptrdiff_t i = 0; i < count; ++i) {  // 5.2-8
+        if (particles.type[i] != ParticleType::Fluid) continue;
+        particles.velocity[i] += dt * acceleration_[i];
+        particles.position[i] += dt * (dt * acceleration_[i]);
+      }
+      fix_walls(particles);                // 5.2-9
+    }
     walls_.after_correction(context);    // 5.2-10 position clamp
-    ghosts_ += mark_escaped_as_ghosts(particles, scene_);  // 5.2-11
+    {
+      const auto timed = measure(timers_, integration_phase_);
+      ghosts_ += mark_escaped_as_ghosts(particles, scene_);  // 5.2-11
+    }
 
     total_iterations_ += solve.iterations;
     ++steps_;
@@ -194,10 +222,15 @@ class MpsMethod final : public Method {
  private:
   // Neighbours within the largest radius, then the boundary model's wall samples there.
   void search(const ParticleSet& particles, WallContext& context) {
+    const auto timed = measure(timers_, search_phase_);
     cells_.build(particles.position, particles.type, search_radius_);
     cells_.find_neighbours(particles.position, particles.type, search_radius_, neighbours_);
     context.support = search_radius_;
-    walls_.build_wall_samples(context, samples_);
+  }
+
+  void search_with_samples(const ParticleSet& particles, WallContext& context) {
+    search(particles, context);
+    walls_.build_wall_samples(context, samples_);  // timed as "wall_treatment"
   }
 
   static void fix_walls(ParticleSet& particles) {  // spec §7: wall velocity (and acceleration) zero
@@ -208,6 +241,8 @@ class MpsMethod final : public Method {
 
   const Scene& scene_;
   WallTreatmentSet walls_;
+  PhaseTimers* timers_;  // core/profile.hpp; null outside a run
+  PhaseTimers::Id search_phase_, operators_phase_, solve_phase_, integration_phase_;
   OperatorRadius density_radius_, gradient_radius_, laplacian_radius_;
   double search_radius_ = 0.0;
   int pressure_wall_layers_ = 1;
