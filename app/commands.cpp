@@ -9,10 +9,14 @@
 #include <signal.h>
 #include <unistd.h>
 
+#include <omp.h>
+
+#include "core/benchmark.hpp"
 #include "core/compare.hpp"
 #include "core/driver.hpp"
 #include "core/error.hpp"
 #include "core/method.hpp"
+#include "core/output.hpp"
 #include "core/wall_treatment.hpp"
 
 namespace mps_lab::app {
@@ -94,6 +98,36 @@ int run_command(const RunCommand& command) {
   options.end_time = command.end_time;
   options.checkpoint_every_steps = command.checkpoint_every;
   return run_with_options(options, command.quiet, command.profile);
+}
+
+int bench_command(const BenchCommand& command, char** argv) {
+  // Unpinned OpenMP threads on this machine class slow down many-fold when another process
+  // runs (docs/performance.md). OMP_PROC_BIND is read when the OpenMP runtime starts, so the
+  // bench sets it and starts itself again (once: the variable is then set).
+  if (std::getenv("OMP_PROC_BIND") == nullptr) {
+    ::setenv("OMP_PROC_BIND", "true", 1);
+    ::execv("/proc/self/exe", argv);
+    std::fprintf(stderr, "mps_lab: note: could not restart with OMP_PROC_BIND=true; threads are not pinned\n");
+  }
+  const MethodRegistry methods = builtin_methods();
+  const WallTreatmentRegistry walls = builtin_wall_treatments();
+  BenchmarkOptions options;
+  options.scene_path = command.scene;
+  options.methods = command.methods;
+  options.spacings = command.spacings;
+  options.threads = command.threads;
+  options.overrides = command.set;
+  options.time_step_per_spacing = command.time_step_per_spacing;
+  options.start_time = command.start_time;
+  options.warmup_steps = command.warmup_steps;
+  options.steps = command.steps;
+  options.kernels = command.kernels;
+  options.progress = !command.quiet;
+  const nlohmann::json results = run_benchmarks(options, methods, walls);
+  if (!command.json.empty()) write_file_atomically(command.json, results.dump(1) + "\n");
+  std::printf("OMP_PROC_BIND=%s, %d threads available\n", std::getenv("OMP_PROC_BIND"), omp_get_num_procs());
+  std::fputs(benchmark_table(results).c_str(), stdout);
+  return 0;
 }
 
 int resume_command(const ResumeCommand& command) {

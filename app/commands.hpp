@@ -37,7 +37,23 @@ struct CompareCommand {
   bool quiet = false;
 };
 
+struct BenchCommand {
+  std::string scene = "scenes/dambreak.json";
+  std::vector<std::string> methods;
+  std::vector<double> spacings;           // m
+  std::vector<int> threads;
+  std::vector<std::string> set;
+  double time_step_per_spacing = 0.02;    // s/m
+  double start_time = 0.0;                // s
+  long long warmup_steps = 5;
+  long long steps = 20;
+  bool kernels = true;
+  std::string json;                       // also write the results here
+  bool quiet = false;
+};
+
 int run_command(const RunCommand& command);
+int bench_command(const BenchCommand& command, char** argv);
 int resume_command(const ResumeCommand& command);
 int compare_command(const CompareCommand& command);
 int methods_command(bool with_parameters);

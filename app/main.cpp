@@ -3,6 +3,8 @@
 //               [--checkpoint-every N] [--profile]
 //   mps_lab resume DIR [--end-time T] [--checkpoint-every N] [--profile]
 //   mps_lab compare scenes/dambreak.json [--methods mps,isph,dfsph] [--out runs/dambreak]
+//   mps_lab bench [scene] [--methods ...] [--spacings 0.025,0.0125,0.005,0.0025] [--threads 1,2]
+//               [--steps N] [--warmup-steps N] [--start-time T] [--json FILE]
 //   mps_lab methods [--parameters]
 #include <cstdio>
 #include <exception>
@@ -59,6 +61,31 @@ int main(int argc, char** argv) {
   compare_app->add_flag("!--no-analysis", compare.analysis, "skip the Python figures and report");
   compare_app->add_flag("--quiet,-q", compare.quiet, "no progress and no table");
 
+  mps_lab::app::BenchCommand bench;
+  auto* bench_app = app.add_subcommand(
+      "bench", "measure speed: kernels and whole steps of each method at several resolutions (docs/performance.md)");
+  bench_app->add_option("scene", bench.scene, "scene file (default: scenes/dambreak.json)");
+  bench_app->add_option("--methods", bench.methods, "comma-separated methods (default: all registered)")->delimiter(',');
+  bench_app->add_option("--spacings", bench.spacings, "comma-separated particle spacings l0 in m (default: the scene's)")
+      ->delimiter(',')
+      ->check(CLI::PositiveNumber);
+  bench_app->add_option("--threads", bench.threads, "comma-separated OpenMP thread counts (default: OMP_NUM_THREADS)")
+      ->delimiter(',')
+      ->check(CLI::PositiveNumber);
+  bench_app->add_option("--time-step-per-spacing", bench.time_step_per_spacing,
+                        "time step = this x l0, s/m (default 0.02: the spec's 5e-4 s at l0 = 0.025; 0: the scene's)")
+      ->check(CLI::NonNegativeNumber);
+  bench_app->add_option("--start-time", bench.start_time, "run unmeasured to this simulated time first, s")
+      ->check(CLI::NonNegativeNumber);
+  bench_app->add_option("--warmup-steps", bench.warmup_steps, "unmeasured steps before the measured ones (default 5)")
+      ->check(CLI::NonNegativeNumber);
+  bench_app->add_option("--steps", bench.steps, "measured steps per case (default 20)")->check(CLI::PositiveNumber);
+  bench_app->add_option("--set,-s", bench.set, "override a scene key (repeatable)")
+      ->multi_option_policy(CLI::MultiOptionPolicy::TakeAll);
+  bench_app->add_flag("!--no-kernels", bench.kernels, "skip the kernel micro-benchmarks");
+  bench_app->add_option("--json", bench.json, "also write every measurement to this JSON file");
+  bench_app->add_flag("--quiet,-q", bench.quiet, "no line per case on stderr");
+
   bool with_parameters = false;
   auto* methods_app = app.add_subcommand("methods", "list the registered methods, one line each");
   methods_app->add_flag("--parameters,-p", with_parameters, "also list every parameter, default and wall treatment");
@@ -73,6 +100,7 @@ int main(int argc, char** argv) {
     if (app.got_subcommand(run_app)) return mps_lab::app::run_command(run);
     if (app.got_subcommand(resume_app)) return mps_lab::app::resume_command(resume);
     if (app.got_subcommand(compare_app)) return mps_lab::app::compare_command(compare);
+    if (app.got_subcommand(bench_app)) return mps_lab::app::bench_command(bench, argv);
     if (app.got_subcommand(methods_app)) return mps_lab::app::methods_command(with_parameters);
   } catch (const mps_lab::InputError& error) {
     std::fprintf(stderr, "mps_lab: error: %s\n", error.what());

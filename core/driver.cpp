@@ -9,6 +9,7 @@
 #include <omp.h>
 #include <unistd.h>
 
+#include "core/benchmark.hpp"
 #include "core/checkpoint.hpp"
 #include "core/error.hpp"
 #include "core/geometry.hpp"
@@ -298,7 +299,7 @@ RunResult run_simulation(const RunOptions& options, const MethodRegistry& method
                      : options.output_directory.empty() ? std::filesystem::path(scene.output.directory)
                                                         : std::filesystem::path(options.output_directory);
   const auto columns = series_columns(*info, scene);
-  RunOutput output(result.directory, scene.output.csv, scene.output.vtk, columns);
+  RunOutput output(result.directory, {scene.output.csv, scene.output.vtk, scene.output.vtu}, columns);
   if (!resuming) output.prepare();
 
   Simulation simulation(scene, *info);
@@ -569,6 +570,12 @@ RunResult run_simulation(const RunOptions& options, const MethodRegistry& method
   // This session's phases (a resumed run profiles the steps since it resumed).
   summary["profile"] = profile_json(timers, seconds_since(started), simulation.steps() - first_step, initial.fluid);
   summary["profile"]["threads"] = omp_get_max_threads();
+  // The process's peak resident memory (the whole program: at 1e6 particles the particle
+  // data dominates; for small scenes the program's own ~10 MB does).
+  const std::size_t peak_memory = peak_resident_memory_bytes();
+  summary["memory"] = {{"peak_resident_bytes", peak_memory},
+                       {"bytes_per_particle", static_cast<double>(peak_memory) /
+                                                  static_cast<double>(std::max<std::size_t>(1, simulation.particles().size()))}};
   output.write_summary(summary);
   result.summary = summary;
   return result;

@@ -13,6 +13,20 @@ PhaseTimers::Id PhaseTimers::phase(const std::string& name) {
   return phases_.size() - 1;
 }
 
+double PhaseTimers::seconds(const std::string& name) const {
+  for (const auto& phase : phases_) {
+    if (phase.name == name) return phase.seconds;
+  }
+  return 0.0;
+}
+
+long long PhaseTimers::calls(const std::string& name) const {
+  for (const auto& phase : phases_) {
+    if (phase.name == name) return phase.calls;
+  }
+  return 0;
+}
+
 double PhaseTimers::total_seconds() const {
   double total = 0.0;
   for (const auto& phase : phases_) total += phase.seconds;

@@ -59,6 +59,9 @@ class PhaseTimers {
   Scope measure(Id id) { return Scope(this, id); }
 
   const std::vector<Phase>& phases() const { return phases_; }
+  // The totals of the phase called `name` (zero when there is none).
+  double seconds(const std::string& name) const;
+  long long calls(const std::string& name) const;
   double total_seconds() const;  // over all phases
   void reset();                  // zero every phase, keep the names
 
