@@ -6,6 +6,8 @@
 #include <stdexcept>
 #include <string>
 
+#include <omp.h>
+
 namespace mps_lab {
 
 std::uint32_t NeighbourList::max_count() const {
@@ -72,54 +74,70 @@ void CellList::build(const std::vector<Vec2>& positions, const std::vector<Parti
   }
   for (std::size_t c = 0; c < cells; ++c) cell_start_[c + 1] += cell_start_[c];
   sorted_.resize(cell_start_[cells]);
-  std::vector<std::uint32_t> fill(cell_start_.begin(), cell_start_.end() - 1);
+  sorted_positions_.resize(cell_start_[cells]);
+  fill_.assign(cell_start_.begin(), cell_start_.end() - 1);
   for (std::size_t i = 0; i < n; ++i) {
-    if (particle_cell_[i] >= 0) sorted_[fill[static_cast<std::size_t>(particle_cell_[i])]++] = static_cast<std::uint32_t>(i);
+    if (particle_cell_[i] < 0) continue;
+    const std::uint32_t slot = fill_[static_cast<std::size_t>(particle_cell_[i])]++;
+    sorted_[slot] = static_cast<std::uint32_t>(i);
+    sorted_positions_[slot] = positions[i];
   }
 }
 
 void CellList::find_neighbours(const std::vector<Vec2>& positions, const std::vector<ParticleType>& types,
-                               double radius, NeighbourList& out) const {
+                               double radius, NeighbourList& out) {
   if (radius > cell_size_ * (1.0 + 1e-12)) {
     throw std::invalid_argument("CellList: query radius exceeds the cell size");
   }
   const std::size_t n = positions.size();
   const double radius2 = radius * radius;
   out.radius = radius;
-  out.offsets.assign(n + 1, 0);
+  out.offsets.resize(n + 1);
+  out.offsets[0] = 0;
 
-  // Visits the neighbours of i in a fixed order (cells row by row, particles by index).
-  const auto for_each_neighbour = [&](std::size_t i, auto&& visit) {
+  // The neighbours of i in a fixed order: stencil rows bottom to top, and in each row the
+  // three cells left to right, which are one contiguous run of the cell-sorted arrays
+  // (particles by index within a cell).
+  const auto append_neighbours = [&](std::size_t i, std::vector<std::uint32_t>& list) {
     const std::int64_t cell = particle_cell_[i];
     const std::int64_t cx = cell % cells_x_;
     const std::int64_t cy = cell / cells_x_;
     const Vec2 xi = positions[i];
     for (std::int64_t dy = -1; dy <= 1; ++dy) {
-      for (std::int64_t dx = -1; dx <= 1; ++dx) {
-        const auto c = static_cast<std::size_t>((cy + dy) * cells_x_ + (cx + dx));
-        for (std::uint32_t k = cell_start_[c]; k < cell_start_[c + 1]; ++k) {
-          const std::uint32_t j = sorted_[k];
-          if (j == i) continue;
-          if ((positions[j] - xi).squaredNorm() < radius2) visit(j);
-        }
+      const auto row = static_cast<std::size_t>((cy + dy) * cells_x_ + cx);
+      const std::uint32_t first = cell_start_[row - 1];
+      const std::uint32_t last = cell_start_[row + 2];
+      for (std::uint32_t k = first; k < last; ++k) {
+        if ((sorted_positions_[k] - xi).squaredNorm() < radius2 && sorted_[k] != i) list.push_back(sorted_[k]);
       }
     }
   };
 
-#pragma omp parallel for schedule(static)
-  for (std::size_t i = 0; i < n; ++i) {
-    if (types[i] == ParticleType::Ghost) continue;
-    std::uint32_t count = 0;
-    for_each_neighbour(i, [&](std::uint32_t) { ++count; });
-    out.offsets[i + 1] = count;
-  }
-  for (std::size_t i = 0; i < n; ++i) out.offsets[i + 1] += out.offsets[i];
-  out.indices.resize(out.offsets[n]);
-#pragma omp parallel for schedule(static)
-  for (std::size_t i = 0; i < n; ++i) {
-    if (types[i] == ParticleType::Ghost) continue;
-    std::uint32_t next = out.offsets[i];
-    for_each_neighbour(i, [&](std::uint32_t j) { out.indices[next++] = j; });
+  // One distance pass: thread t lists the neighbours of its block [begin_t, end_t) of
+  // particles into thread_lists_[t] and the counts into offsets; after a prefix sum each
+  // block is copied into place. The lists do not depend on the number of threads.
+#pragma omp parallel
+  {
+    const auto threads = static_cast<std::size_t>(omp_get_num_threads());
+    const auto thread = static_cast<std::size_t>(omp_get_thread_num());
+#pragma omp single
+    if (thread_lists_.size() < threads) thread_lists_.resize(threads);
+    const std::size_t begin = n * thread / threads;
+    const std::size_t end = n * (thread + 1) / threads;
+    std::vector<std::uint32_t>& list = thread_lists_[thread];
+    list.clear();
+    for (std::size_t i = begin; i < end; ++i) {
+      const std::size_t before = list.size();
+      if (types[i] != ParticleType::Ghost) append_neighbours(i, list);
+      out.offsets[i + 1] = static_cast<std::uint32_t>(list.size() - before);
+    }
+#pragma omp barrier
+#pragma omp single
+    {
+      for (std::size_t i = 0; i < n; ++i) out.offsets[i + 1] += out.offsets[i];
+      out.indices.resize(out.offsets[n]);
+    }
+    std::copy(list.begin(), list.end(), out.indices.begin() + out.offsets[begin]);
   }
 }
 

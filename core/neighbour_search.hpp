@@ -3,6 +3,13 @@
 // over the bounding box of the active particles, O(N) to build and to query, queried in
 // parallel with OpenMP. brute_force_neighbours is the O(N^2) reference kept for tests.
 //
+// Performance (docs/performance.md): build() keeps a copy of the positions in cell order, so
+// a query scans three contiguous runs of memory (the three cells of a stencil row are
+// neighbours in that order); the query makes one distance pass, each thread writing the
+// lists of its block of particles into its own buffer, which is then copied into place.
+// All buffers are kept between calls: a search in the time loop allocates nothing once the
+// particle count has been reached.
+//
 // A neighbour list holds, for every particle i that is not a ghost, the indices j != i of
 // the non-ghost particles with |x_j - x_i| < radius (strictly: every kernel here vanishes
 // at r = radius). Lists are in a deterministic order (cell by cell, then by index), so the
@@ -34,7 +41,7 @@ class CellList {
   // Fills `out` (its storage is reused between calls) with the neighbours within `radius`.
   // `radius` must not exceed the cell size given to build().
   void find_neighbours(const std::vector<Vec2>& positions, const std::vector<ParticleType>& types,
-                       double radius, NeighbourList& out) const;
+                       double radius, NeighbourList& out);
 
   double cell_size() const { return cell_size_; }
   int cells_x() const { return cells_x_; }
@@ -49,6 +56,9 @@ class CellList {
   std::vector<std::uint32_t> cell_start_;  // size cells + 1
   std::vector<std::uint32_t> sorted_;      // particle indices sorted by cell, stable
   std::vector<std::int64_t> particle_cell_;  // -1 for ghosts
+  std::vector<Vec2> sorted_positions_;       // positions[sorted_[k]], m
+  std::vector<std::uint32_t> fill_;          // counting-sort cursor per cell
+  std::vector<std::vector<std::uint32_t>> thread_lists_;  // per-thread neighbour buffers
 };
 
 NeighbourList brute_force_neighbours(const std::vector<Vec2>& positions,
