@@ -1,0 +1,60 @@
+"""The performance study (analysis/performance.py) on a tiny real study (--quick: the dam break
+at l0 = 0.025 for mps and isph, one bench resolution, scaling at l0 = 0.01 with 1 and 2
+threads): the CSV, JSON, tables and figures are written; the ratio against the reference
+figure is the measured speed over 0.23 M; the scaling summary's spread and the speed-ups on
+synthetic cases with known answers. Run by CTest; MPS_LAB_BINARY names build/mps_lab."""
+from __future__ import annotations
+
+import csv
+import os
+import subprocess
+import sys
+import tempfile
+import unittest
+
+ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+sys.path.insert(0, os.path.join(ROOT, "analysis"))
+import performance  # noqa: E402
+
+BINARY = os.environ.get("MPS_LAB_BINARY", os.path.join(ROOT, "build", "mps_lab"))
+
+
+class PerformanceStudyTest(unittest.TestCase):
+    def test_quick_study_writes_tables_and_figures(self):
+        with tempfile.TemporaryDirectory() as out:
+            subprocess.run([sys.executable, os.path.join(ROOT, "analysis", "performance.py"), "--out", out, "--quick",
+                            "--binary", BINARY], check=True, capture_output=True)
+            rows = list(csv.DictReader(open(os.path.join(out, "reference.csv"))))
+            self.assertEqual([(r["method"], float(r["particle_spacing"])) for r in rows],
+                             [("mps", 0.025), ("isph", 0.025)])
+            for row in rows:
+                self.assertEqual(row["status"], "completed")
+                self.assertEqual(int(row["steps"]), 40)  # 0.02 s at 5e-4 s
+                self.assertGreater(float(row["ms_pressure_solve"]), 0.0)
+            table = open(os.path.join(out, "performance.md")).read()
+            speed = float(rows[0]["particle_steps_per_second"])
+            self.assertIn(f"{speed / 0.23e6:.2g}x", table)
+            self.assertIn("## Scaling", table)
+            self.assertIn("Speed-up from 1 to 2 threads", table)
+            for name in ["resolutions.json", "scaling.json", "performance_scaling.png", "performance_phases.png"]:
+                self.assertTrue(os.path.getsize(os.path.join(out, name)) > 0, name)
+
+    def test_scaling_summary_and_speedups(self):
+        cases = [dict(kind="steps", method="mps", threads=t, status="completed", fluid_particles=n,
+                      nanoseconds_per_particle_step=v, seconds=s)
+                 for t, n, v, s in [(2, 1000, 100.0, 1.0), (2, 10000, 120.0, 1.2), (2, 100000, 150.0, 1.5),
+                                    (1, 100000, 270.0, 2.7)]]
+        rows = performance.scaling_summary(cases)
+        two = next(r for r in rows if r["threads"] == 2)
+        self.assertEqual(two["median"], 120.0)
+        self.assertAlmostEqual(two["low"], 100.0 / 120.0 - 1.0)
+        self.assertAlmostEqual(two["high"], 150.0 / 120.0 - 1.0)
+        self.assertEqual(performance.speedups(cases), [("mps", 100000, 2.7 / 1.5)])
+
+    def test_fluid_counts_of_the_scaling_spacings(self):
+        self.assertEqual(performance.fluid_count(0.05 / 5), 24 * 49)
+        self.assertEqual(performance.fluid_count(0.05 / 142), 709 * 1419)  # 1,006,071
+
+
+if __name__ == "__main__":
+    unittest.main()
