@@ -7,6 +7,7 @@
 
 #include "core/diagnostics.hpp"
 #include "core/method.hpp"
+#include "core/parallel.hpp"
 #include "core/scene.hpp"
 #include "core/wall_geometry.hpp"
 
@@ -90,12 +91,10 @@ double mechanical_energy(const ParticleSet& particles, const Scene& scene) {
   // The corner of the domain with the lowest potential -g.x, so that E >= 0 inside it.
   const Vec2 low(g.x() > 0.0 ? scene.domain.max.x() : scene.domain.min.x(),
                  g.y() > 0.0 ? scene.domain.max.y() : scene.domain.min.y());
-  double energy = 0.0;
-  for (std::size_t i = 0; i < particles.size(); ++i) {
-    if (particles.type[i] != ParticleType::Fluid) continue;
-    energy += mass * (0.5 * particles.velocity[i].squaredNorm() - g.dot(particles.position[i] - low));
-  }
-  return energy;
+  return deterministic_sum(particles.size(), [&](std::size_t i) {
+    if (particles.type[i] != ParticleType::Fluid) return 0.0;
+    return mass * (0.5 * particles.velocity[i].squaredNorm() - g.dot(particles.position[i] - low));
+  });
 }
 
 double stability_energy_scale(double initial_energy, double fluid_mass, double particle_spacing, double time_step) {
@@ -154,30 +153,44 @@ void StabilityMonitor::check_step(const ParticleSet& particles, const StepReport
                                   double time, double dt) {
   const double l0 = scene_.particle_spacing;
   const bool stop_divergence = settings_.stop_on_divergence;
-  // One pass: finiteness (ghosts too: a NaN position makes a particle a ghost), the largest
-  // speed, fluid beyond a wall's first particle line, and the ghosts.
+  // One parallel pass (exact reductions only: max, min, counts; the same result for any
+  // thread count): finiteness (ghosts too: a NaN position makes a particle a ghost), the
+  // largest speed, fluid beyond a wall's first particle line, the closest approach to a wall
+  // and the ghosts.
   double max_speed2 = 0.0;
   std::size_t ghosts = 0;
   std::size_t beyond_walls = 0;
-  for (std::size_t i = 0; i < particles.size(); ++i) {
+  double min_wall_distance = state_.min_wall_distance;
+  const auto count = static_cast<std::ptrdiff_t>(particles.size());
+  std::ptrdiff_t first_non_finite = count;
+  const double beyond_depth = geometry_->surface_offset() * (1.0 + 1e-12);  // as beyond_a_wall()
+#pragma omp parallel for schedule(static) reduction(max : max_speed2) reduction(+ : ghosts, beyond_walls) \
+    reduction(min : min_wall_distance, first_non_finite)
+  for (std::ptrdiff_t i = 0; i < count; ++i) {
     if (particles.type[i] == ParticleType::Wall) continue;
     const Vec2& x = particles.position[i];
     const Vec2& u = particles.velocity[i];
     if (!(std::isfinite(x.x()) && std::isfinite(x.y()) && std::isfinite(u.x()) && std::isfinite(u.y()) &&
           std::isfinite(particles.pressure[i]))) {
-      const std::string reason = "particle " + std::to_string(i) + " has a non-finite position, velocity or pressure";
-      record(step, time, kNonFinite, reason);
-      stop("diverged", step, time, reason);  // always: there is nothing to continue from
+      first_non_finite = std::min(first_non_finite, i);
+      continue;
     }
     if (particles.type[i] == ParticleType::Ghost) {
       ++ghosts;
       continue;
     }
     max_speed2 = std::max(max_speed2, u.squaredNorm());
-    beyond_walls += beyond_a_wall(x) ? 1 : 0;
     const double depth = geometry_->depth_inside(x);
-    state_.min_wall_distance = std::min(state_.min_wall_distance, depth > 0.0 ? -depth : geometry_->distance(x));
+    beyond_walls += depth > beyond_depth ? 1 : 0;
+    min_wall_distance = std::min(min_wall_distance, depth > 0.0 ? -depth : geometry_->distance(x));
   }
+  if (first_non_finite < count) {
+    const std::string reason =
+        "particle " + std::to_string(first_non_finite) + " has a non-finite position, velocity or pressure";
+    record(step, time, kNonFinite, reason);
+    stop("diverged", step, time, reason);  // always: there is nothing to continue from
+  }
+  state_.min_wall_distance = min_wall_distance;
 
   state_.last_courant = std::sqrt(max_speed2) * dt / l0;
   if (state_.last_courant > settings_.courant_limit) {
