@@ -17,6 +17,31 @@ void multiply(const CsrMatrix& matrix, const double* x, double* y) {
   }
 }
 
+void CsrAssembler::finish(CsrMatrix& matrix, bool diagonal_first) {
+  matrix.rows = rows_;
+  matrix.diagonal_first = diagonal_first;
+  matrix.row_start.resize(static_cast<std::size_t>(rows_) + 1);
+  matrix.row_start[0] = 0;
+  for (int row = 0; row < rows_; ++row) {
+    matrix.row_start[static_cast<std::size_t>(row) + 1] =
+        matrix.row_start[static_cast<std::size_t>(row)] + length_[static_cast<std::size_t>(row)];
+  }
+  const auto entries = static_cast<std::size_t>(matrix.row_start[static_cast<std::size_t>(rows_)]);
+  matrix.column.resize(entries);
+  matrix.value.resize(entries);
+  const int rows = rows_;
+#pragma omp parallel for schedule(static)
+  for (int row = 0; row < rows; ++row) {
+    const auto from = static_cast<std::size_t>(slot_start_[static_cast<std::size_t>(row)]);
+    const auto to = static_cast<std::size_t>(matrix.row_start[static_cast<std::size_t>(row)]);
+    const auto length = static_cast<std::size_t>(length_[static_cast<std::size_t>(row)]);
+    std::copy(column_.begin() + static_cast<std::ptrdiff_t>(from), column_.begin() + static_cast<std::ptrdiff_t>(from + length),
+              matrix.column.begin() + static_cast<std::ptrdiff_t>(to));
+    std::copy(value_.begin() + static_cast<std::ptrdiff_t>(from), value_.begin() + static_cast<std::ptrdiff_t>(from + length),
+              matrix.value.begin() + static_cast<std::ptrdiff_t>(to));
+  }
+}
+
 namespace {
 constexpr std::size_t kDotBlock = 4096;  // entries per partial sum (fixed: thread-count independent)
 }

@@ -33,6 +33,60 @@ struct CsrMatrix {
 // on the thread count).
 void multiply(const CsrMatrix& matrix, const double* x, double* y);
 
+// Assembles a CsrMatrix row by row, rows in parallel, without knowing the row lengths in
+// advance: start() takes an upper bound of every row's length, each row is written into its
+// own padded slot by a RowWriter (one thread per row), finish() packs the slots into the
+// matrix (prefix sum of the actual lengths, then a parallel copy). All storage is reused: once
+// the sizes have been seen, assembling allocates nothing.
+//   assembler.start(rows, [&](int row) { return bound; });
+//   #pragma omp parallel for
+//   for (int row ...) { auto writer = assembler.row(row); writer.add(column, value); ... writer.close(); }
+//   assembler.finish(matrix, /*diagonal_first=*/true);
+class CsrAssembler {
+ public:
+  class RowWriter {
+   public:
+    RowWriter(CsrAssembler& owner, int row)
+        : owner_(owner), row_(row), begin_(owner.slot_start_[static_cast<std::size_t>(row)]), end_(begin_) {}
+    void add(int column, double value) {
+      owner_.column_[static_cast<std::size_t>(end_)] = column;
+      owner_.value_[static_cast<std::size_t>(end_)] = value;
+      ++end_;
+    }
+    int size() const { return end_ - begin_; }
+    double& value(int entry) { return owner_.value_[static_cast<std::size_t>(begin_ + entry)]; }  // entry < size()
+    void close() { owner_.length_[static_cast<std::size_t>(row_)] = end_ - begin_; }
+
+   private:
+    CsrAssembler& owner_;
+    int row_;
+    int begin_, end_;
+  };
+
+  template <typename Bound>
+  void start(int rows, Bound bound) {
+    rows_ = rows;
+    slot_start_.resize(static_cast<std::size_t>(rows) + 1);
+    length_.resize(static_cast<std::size_t>(rows));
+    slot_start_[0] = 0;
+    for (int row = 0; row < rows; ++row) {
+      slot_start_[static_cast<std::size_t>(row) + 1] = slot_start_[static_cast<std::size_t>(row)] + bound(row);
+    }
+    const auto capacity = static_cast<std::size_t>(slot_start_[static_cast<std::size_t>(rows)]);
+    if (column_.size() < capacity) {
+      column_.resize(capacity);
+      value_.resize(capacity);
+    }
+  }
+  RowWriter row(int row) { return RowWriter(*this, row); }
+  void finish(CsrMatrix& matrix, bool diagonal_first);
+
+ private:
+  int rows_ = 0;
+  std::vector<int> slot_start_, length_, column_;
+  std::vector<double> value_;
+};
+
 // Deterministic parallel dot product: the sum is taken over fixed blocks of the index range
 // whose partial sums are added in block order, so the result is the same, bit for bit, for
 // any number of threads (the determinism tests compare 1 and 2 threads byte for byte).

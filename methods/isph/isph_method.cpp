@@ -48,7 +48,13 @@ class IsphMethod final : public Method {
  public:
   explicit IsphMethod(const MethodSetup& setup)
       : scene_(setup.scene),
-        walls_(setup.wall_treatments, setup.scene),
+        walls_(setup.wall_treatments, setup.scene, setup.timers),
+        timers_(setup.timers),
+        search_phase_(phase_id(timers_, "neighbour_search")),
+        operators_phase_(phase_id(timers_, "operators")),
+        assembly_phase_(phase_id(timers_, "matrix_assembly")),
+        solve_phase_(phase_id(timers_, "pressure_solve")),
+        integration_phase_(phase_id(timers_, "integration")),
         kernel_(sph_kernel_from_name(setup.parameters.string("kernel")),
                 2.0 * setup.parameters.number("smoothing_length") * setup.scene.particle_spacing) {
     const auto& p = setup.parameters;
@@ -109,77 +115,106 @@ class IsphMethod final : public Method {
 
     // --- predictor (Shao & Lo 2003: u* = u^n + dt (g + nu lap u^n)) ---------------------------
     // Neighbours: the list of the last search (at r* of the previous step), as in mps.
+    {
+      const auto timed = measure(timers_, operators_phase_);
 #pragma omp parallel for schedule(static)
-    for (std::ptrdiff_t i = 0; i < count; ++i) {
-      acceleration_[i] = particles.type[i] == ParticleType::Fluid ? gravity : Vec2::Zero();
+      for (std::ptrdiff_t i = 0; i < count; ++i) {
+        acceleration_[i] = particles.type[i] == ParticleType::Fluid ? gravity : Vec2::Zero();
+      }
+      if (scene_.physics.kinematic_viscosity > 0.0) {
+        add_viscous_acceleration(particles, neighbours_, samples_, kernel_, mass_, operator_density(density),
+                                 rest_density_, scene_.physics.kinematic_viscosity, eta2_, acceleration_);
+      }
     }
-    if (scene_.physics.kinematic_viscosity > 0.0) {
-      add_viscous_acceleration(particles, neighbours_, samples_, kernel_, mass_, operator_density(density),
-                               rest_density_, scene_.physics.kinematic_viscosity, eta2_, acceleration_);
-    }
+    {
+      const auto timed = measure(timers_, integration_phase_);
 #pragma omp parallel for schedule(static)
-    for (std::ptrdiff_t i = 0; i < count; ++i) {
-      if (particles.type[i] == ParticleType::Fluid) particles.velocity[i] += dt * acceleration_[i];
+      for (std::ptrdiff_t i = 0; i < count; ++i) {
+        if (particles.type[i] == ParticleType::Fluid) particles.velocity[i] += dt * acceleration_[i];
+      }
     }
     walls_.after_explicit_velocity(context);
+    {
+      const auto timed = measure(timers_, integration_phase_);
 #pragma omp parallel for schedule(static)
-    for (std::ptrdiff_t i = 0; i < count; ++i) {
-      if (particles.type[i] == ParticleType::Fluid) particles.position[i] += dt * particles.velocity[i];
+      for (std::ptrdiff_t i = 0; i < count; ++i) {
+        if (particles.type[i] == ParticleType::Fluid) particles.position[i] += dt * particles.velocity[i];
+      }
+      fix_walls(particles);
     }
-    fix_walls(particles);
     walls_.after_explicit_position(context);
 
     // --- projection at r* ------------------------------------------------------------------
     search(particles, context);  // and the wall samples at r*
     walls_.after_neighbour_search(context);
-    summation_density(particles, neighbours_, samples_, kernel_, mass_, rest_density_, density);  // rho*
+    // rho is density itself (summation) or rho0 everywhere: it can be bound before rho* is summed.
     const std::vector<double>& rho = operator_density(density);
-    detect_free_surface(particles, density, rho, free_surface);
+    {
+      const auto timed = measure(timers_, operators_phase_);
+      summation_density(particles, neighbours_, samples_, kernel_, mass_, rest_density_, density);  // rho*
+      detect_free_surface(particles, density, rho, free_surface);
 
-    // Predicted velocities for div u*: fluid u*; a wall gets dt g, the velocity the body force
-    // alone would give it, which its pressure (Adami eq. 27: grad p = rho g inside the wall)
-    // then removes. Hence fluid at rest has div u* = 0 next to a wall as in the interior, and
-    // only motion relative to the wall is a source (consistent with the wall rows of the PPE).
-#pragma omp parallel for schedule(static)
-    for (std::ptrdiff_t i = 0; i < count; ++i) {
-      predicted_velocity_[i] = particles.type[i] == ParticleType::Fluid  ? particles.velocity[i]
-                               : particles.type[i] == ParticleType::Wall ? Vec2(dt * gravity)
-                                                                         : Vec2::Zero();
-    }
-    // Wall samples likewise: u*_w = dt g + M_w (u*_s - dt g): a fixed wall point has dt g, a
-    // mirror image the mirrored motion of its source relative to that (docs/methods/isph.md,
-    // "Wall boundary models": with u*_w = M_w u*_s the hydrostatic head is counted twice).
-    velocity_divergence(particles, neighbours_, samples_, kernel_, mass_, rho, predicted_velocity_, Vec2(dt * gravity),
-                        divergence);
-    compute_source(particles, density, divergence, dt);
-
-    const PressureSolveResult solve =
-        ppe_.solve(particles, neighbours_, samples_, kernel_, rho, free_surface, source_, settings_);
-    if (!solve.converged) ++nonconverged_solves_;
-    if (clamp_negative_pressure_) {
+      // Predicted velocities for div u*: fluid u*; a wall gets dt g, the velocity the body force
+      // alone would give it, which its pressure (Adami eq. 27: grad p = rho g inside the wall)
+      // then removes. Hence fluid at rest has div u* = 0 next to a wall as in the interior, and
+      // only motion relative to the wall is a source (consistent with the wall rows of the PPE).
 #pragma omp parallel for schedule(static)
       for (std::ptrdiff_t i = 0; i < count; ++i) {
-        particles.pressure[i] = std::max(particles.pressure[i], 0.0);
+        predicted_velocity_[i] = particles.type[i] == ParticleType::Fluid  ? particles.velocity[i]
+                                 : particles.type[i] == ParticleType::Wall ? Vec2(dt * gravity)
+                                                                           : Vec2::Zero();
       }
+      // Wall samples likewise: u*_w = dt g + M_w (u*_s - dt g): a fixed wall point has dt g, a
+      // mirror image the mirrored motion of its source relative to that (docs/methods/isph.md,
+      // "Wall boundary models": with u*_w = M_w u*_s the hydrostatic head is counted twice).
+      velocity_divergence(particles, neighbours_, samples_, kernel_, mass_, rho, predicted_velocity_, Vec2(dt * gravity),
+                          divergence);
+      compute_source(particles, density, divergence, dt);
     }
 
-    // --- correction ------------------------------------------------------------------------
-    pressure_acceleration(particles, neighbours_, samples_, {rest_density_, gravity, clamp_negative_pressure_}, kernel_,
-                          mass_, rho, free_surface, gradient_form_, acceleration_);
+    PressureSolveResult solve;
+    {
+      const auto timed = measure(timers_, assembly_phase_);
+      solve = ppe_.assemble(particles, neighbours_, samples_, kernel_, rho, free_surface, source_, settings_);
+    }
+    {
+      const auto timed = measure(timers_, solve_phase_);
+      ppe_.solve_assembled(particles, settings_, solve);
+      if (clamp_negative_pressure_) {
 #pragma omp parallel for schedule(static)
-    for (std::ptrdiff_t i = 0; i < count; ++i) {
-      if (particles.type[i] != ParticleType::Fluid) continue;
-      particles.velocity[i] += dt * acceleration_[i];  // u^{n+1} = u* - dt grad p / rho
-      if (position_update_ == PositionUpdate::SemiImplicit) {
-        particles.position[i] += dt * (dt * acceleration_[i]);  // r^{n+1} = r* + dt (u^{n+1} - u*)
-      } else {
-        // Shao & Lo (2003): r^{n+1} = r^n + dt (u^n + u^{n+1}) / 2
-        particles.position[i] = start_position_[i] + 0.5 * dt * (start_velocity_[i] + particles.velocity[i]);
+        for (std::ptrdiff_t i = 0; i < count; ++i) {
+          particles.pressure[i] = std::max(particles.pressure[i], 0.0);
+        }
       }
     }
-    fix_walls(particles);
+    if (!solve.converged) ++nonconverged_solves_;
+
+    // --- correction ------------------------------------------------------------------------
+    {
+      const auto timed = measure(timers_, operators_phase_);
+      pressure_acceleration(particles, neighbours_, samples_, {rest_density_, gravity, clamp_negative_pressure_},
+                            kernel_, mass_, rho, free_surface, gradient_form_, acceleration_);
+    }
+    {
+      const auto timed = measure(timers_, integration_phase_);
+#pragma omp parallel for schedule(static)
+      for (std::ptrdiff_t i = 0; i < count; ++i) {
+        if (particles.type[i] != ParticleType::Fluid) continue;
+        particles.velocity[i] += dt * acceleration_[i];  // u^{n+1} = u* - dt grad p / rho
+        if (position_update_ == PositionUpdate::SemiImplicit) {
+          particles.position[i] += dt * (dt * acceleration_[i]);  // r^{n+1} = r* + dt (u^{n+1} - u*)
+        } else {
+          // Shao & Lo (2003): r^{n+1} = r^n + dt (u^n + u^{n+1}) / 2
+          particles.position[i] = start_position_[i] + 0.5 * dt * (start_velocity_[i] + particles.velocity[i]);
+        }
+      }
+      fix_walls(particles);
+    }
     walls_.after_correction(context);
-    ghosts_ += mark_escaped_as_ghosts(particles, scene_);
+    {
+      const auto timed = measure(timers_, integration_phase_);
+      ghosts_ += mark_escaped_as_ghosts(particles, scene_);
+    }
 
     total_iterations_ += solve.iterations;
     ++steps_;
@@ -241,8 +276,11 @@ class IsphMethod final : public Method {
   // Neighbours within the kernel support, then the boundary model's wall samples within it
   // (none for wall particles), handed to the wall treatments in `context`.
   void search(const ParticleSet& particles, WallContext& context) {
-    cells_.build(particles.position, particles.type, kernel_.support());
-    cells_.find_neighbours(particles.position, particles.type, kernel_.support(), neighbours_);
+    {
+      const auto timed = measure(timers_, search_phase_);
+      cells_.build(particles.position, particles.type, kernel_.support());
+      cells_.find_neighbours(particles.position, particles.type, kernel_.support(), neighbours_);
+    }
     context.samples = &samples_;
     context.support = kernel_.support();
     walls_.build_wall_samples(context, samples_);
@@ -336,6 +374,8 @@ class IsphMethod final : public Method {
 
   const Scene& scene_;
   WallTreatmentSet walls_;
+  PhaseTimers* timers_;  // core/profile.hpp; null outside a run
+  PhaseTimers::Id search_phase_, operators_phase_, assembly_phase_, solve_phase_, integration_phase_;
   SphKernel kernel_;
   double rest_density_ = 1000.0;  // kg/m^3
   double mass_ = 0.0;             // kg/m
@@ -415,7 +455,7 @@ void mps_lab_register_method_isph(mps_lab::MethodRegistry& registry) {
           .one_of({"semi_implicit", "trapezoidal"}),
       boolean_parameter("clamp_negative_pressure", true,
                         "set p < 0 to 0 after the solve, fluid and wall (against the tensile instability)"),
-      string_parameter("preconditioner", "diagonal", "BiCGSTAB preconditioner").one_of({"diagonal", "incomplete_lut"}),
+      string_parameter("preconditioner", "diagonal", "BiCGSTAB preconditioner").one_of({"diagonal", "incomplete_lu"}),
       number_parameter("solver_tolerance", 1.0e-8, "", "BiCGSTAB stops at ||b - A p|| / ||b|| below this (rows in Pa)")
           .above(0.0)
           .below(1.0),

@@ -3,8 +3,6 @@
 #include <cmath>
 #include <stdexcept>
 
-#include <Eigen/IterativeLinearSolvers>
-
 #include "core/pressure_system.hpp"
 #include "methods/isph/isph_operators.hpp"
 
@@ -12,79 +10,47 @@ namespace mps_lab::isph {
 
 namespace {
 
-using RowMatrix = Eigen::SparseMatrix<double, Eigen::RowMajor>;
+// The row blocks of the incomplete-LU preconditioner: fixed (not the thread count), so that
+// the result does not depend on it; two blocks let two threads factor and solve at once.
+constexpr int kIncompleteLuBlocks = 2;
 
-// A group of unknowns with no Dirichlet row (core/pressure_system.hpp) has a singular block:
-// fluid rows sum to zero and wall rows are weighted averages. As in the mps method (and the
-// public MPS-Basic code) the diagonal of such a group's fluid rows is doubled, which pins its
-// pressure level near zero. Returns the number of groups fixed.
-std::size_t regularise_ungrounded_groups(RowMatrix& matrix, const std::vector<char>& grounded,
-                                         const std::vector<char>& is_fluid_row) {
-  const auto groups = ungrounded_groups(matrix, grounded);
-  for (const auto& members : groups) {
-    for (int row : members) {
-      if (is_fluid_row[static_cast<std::size_t>(row)]) matrix.coeffRef(row, row) *= 2.0;
-    }
-  }
-  return groups.size();
-}
-
-// BiCGSTAB until the *recomputed* residual ||b - A x|| / ||b|| is below the tolerance or the
-// iteration budget is spent. Eigen's BiCGSTAB stops on its recurrence residual, which can
-// drift from the true one; when it does, the solve is resumed from the current iterate with
-// the iterations left. (Eigen resets its own counter once, on its first internal breakdown
-// restart; the count reported is Eigen's.)
-template <typename Solver>
-void run_bicgstab(Solver& solver, const RowMatrix& matrix, const Eigen::VectorXd& rhs, const Eigen::VectorXd& guess,
-                  const PressureSolveSettings& settings, Eigen::VectorXd& solution, PressureSolveResult& result) {
-  solver.compute(matrix);
-  if (solver.info() != Eigen::Success) throw std::runtime_error("ISPH pressure solve: preconditioner set-up failed");
-  solver.setTolerance(settings.tolerance);
-  const double rhs_norm = rhs.norm();
-  solution = guess;
-  result.iterations = 0;
-  if (rhs_norm == 0.0) {
-    solution.setZero();
-    result.residual = 0.0;
-    result.converged = true;
-    return;
-  }
-  for (;;) {
-    solver.setMaxIterations(static_cast<Eigen::Index>(settings.max_iterations - result.iterations));
-    solution = solver.solveWithGuess(rhs, solution);
-    result.iterations += static_cast<long long>(solver.iterations());
-    result.residual = (rhs - matrix * solution).norm() / rhs_norm;
-    if (!std::isfinite(result.residual)) {
-      throw std::runtime_error("ISPH pressure solve: BiCGSTAB produced a non-finite pressure");
-    }
-    result.converged = result.residual <= settings.tolerance;
-    if (result.converged || result.iterations >= settings.max_iterations || solver.iterations() == 0) return;
-  }
+std::unique_ptr<Preconditioner> make_preconditioner(PreconditionerKind kind) {
+  if (kind == PreconditionerKind::IncompleteLu) return std::make_unique<IncompleteLuPreconditioner>(kIncompleteLuBlocks);
+  return std::make_unique<JacobiPreconditioner>();
 }
 
 }  // namespace
 
-Preconditioner preconditioner_from_name(const std::string& name) {
-  if (name == "diagonal") return Preconditioner::Diagonal;
-  if (name == "incomplete_lut") return Preconditioner::IncompleteLut;
-  throw std::invalid_argument("unknown preconditioner '" + name + "' (expected diagonal or incomplete_lut)");
+PreconditionerKind preconditioner_from_name(const std::string& name) {
+  if (name == "diagonal") return PreconditionerKind::Diagonal;
+  if (name == "incomplete_lu") return PreconditionerKind::IncompleteLu;
+  throw std::invalid_argument("unknown preconditioner '" + name + "' (expected diagonal or incomplete_lu)");
 }
 
-void PressurePoissonSolver::assemble(const ParticleSet& particles, const NeighbourList& neighbours,
-                                     const WallSampleList& samples, const SphKernel& kernel,
-                                     const std::vector<double>& density, const std::vector<double>& source,
-                                     const PressureSolveSettings& settings, std::vector<char>& grounded) {
-  const auto unknowns = static_cast<Eigen::Index>(particle_of_.size());
+Eigen::SparseMatrix<double, Eigen::RowMajor> PressurePoissonSolver::matrix() const { return to_eigen(matrix_); }
+
+void PressurePoissonSolver::assemble_rows(const ParticleSet& particles, const NeighbourList& neighbours,
+                                          const WallSampleList& samples, const SphKernel& kernel,
+                                          const std::vector<double>& density, const std::vector<double>& source,
+                                          const PressureSolveSettings& settings) {
+  const auto unknowns = static_cast<int>(particle_of_.size());
   const double fluid_scale = settings.rest_density * settings.spacing * settings.spacing;  // kg/m: rows in Pa
-  triplets_.clear();
-  rhs_.resize(unknowns);
-  guess_.resize(unknowns);
-  grounded.assign(static_cast<std::size_t>(unknowns), 0);
+  rhs_.resize(static_cast<std::size_t>(unknowns));
+  grounded_.assign(static_cast<std::size_t>(unknowns), 0);
   const bool with_samples = samples.has_samples();
-  for (Eigen::Index row = 0; row < unknowns; ++row) {
+  assembler_.start(unknowns, [&](int row) {
     const auto i = static_cast<std::size_t>(particle_of_[static_cast<std::size_t>(row)]);
-    const auto row_index = static_cast<int>(row);
-    guess_[row] = settings.warm_start ? particles.pressure[i] : 0.0;
+    const std::uint32_t sample_count =
+        with_samples && particles.type[i] == ParticleType::Fluid ? samples.end(i) - samples.begin(i) : 0;
+    return static_cast<int>(1 + neighbours.count(i) + sample_count);
+  });
+  // Rows in parallel; every row stores its diagonal first.
+#pragma omp parallel for schedule(static)
+  for (int row = 0; row < unknowns; ++row) {
+    const auto i = static_cast<std::size_t>(particle_of_[static_cast<std::size_t>(row)]);
+    auto writer = assembler_.row(row);
+    writer.add(row, 0.0);  // the diagonal, set below
+    bool grounded = false;
     if (particles.type[i] == ParticleType::Fluid) {
       // Cummins & Rudman (1999) / Shao & Lo (2003) Laplacian: sum_j a_ij (p_i - p_j) = -S_i
       double diagonal = 0.0;
@@ -97,9 +63,9 @@ void PressurePoissonSolver::assemble(const ParticleSet& particles, const Neighbo
         if (a == 0.0) continue;
         diagonal += a;
         if (row_of_[j] >= 0) {
-          triplets_.emplace_back(row_index, row_of_[j], -a);
+          writer.add(row_of_[j], -a);
         } else {
-          grounded[static_cast<std::size_t>(row)] = 1;  // a surface neighbour, p = 0
+          grounded = true;  // a surface neighbour, p = 0
         }
       }
       // Wall samples: a_iw (p_i - p_s - rho0 g . (x_w - x_s)); the hydrostatic part is known.
@@ -118,21 +84,20 @@ void PressurePoissonSolver::assemble(const ParticleSet& particles, const Neighbo
           if (s == i) continue;  // p_w - p_i = the hydrostatic part alone
           diagonal += a;
           if (row_of_[s] >= 0) {
-            triplets_.emplace_back(row_index, row_of_[s], -a);
+            writer.add(row_of_[s], -a);
           } else {
-            grounded[static_cast<std::size_t>(row)] = 1;  // the image of a surface particle, p_s = 0
+            grounded = true;  // the image of a surface particle, p_s = 0
           }
         }
       }
       if (diagonal == 0.0) {  // no neighbour within the support: p = 0
         diagonal = 1.0;
-        grounded[static_cast<std::size_t>(row)] = 1;
-        rhs_[row] = 0.0;
+        grounded = true;
+        rhs_[static_cast<std::size_t>(row)] = 0.0;
       } else {
-        rhs_[row] = -fluid_scale * source[i];
-        if (with_samples) rhs_[row] += wall_head;
+        rhs_[static_cast<std::size_t>(row)] = -fluid_scale * source[i] + (with_samples ? wall_head : 0.0);
       }
-      triplets_.emplace_back(row_index, row_index, diagonal);
+      writer.value(0) = diagonal;
     } else {
       // Adami, Hu & Adams (2012), eq. 27 with a_w = 0:
       //   p_w = (sum_f p_f W_wf + g . sum_f rho_f (x_w - x_f) W_wf) / sum_f W_wf
@@ -151,25 +116,26 @@ void PressurePoissonSolver::assemble(const ParticleSet& particles, const Neighbo
         if (w == 0.0) continue;
         head += density[f] * w * between;
         if (row_of_[f] >= 0) {
-          triplets_.emplace_back(row_index, row_of_[f], -w);
+          writer.add(row_of_[f], -w);
         } else {
-          grounded[static_cast<std::size_t>(row)] = 1;  // a surface fluid neighbour, p = 0
+          grounded = true;  // a surface fluid neighbour, p = 0
         }
       }
-      triplets_.emplace_back(row_index, row_index, 1.0);
-      rhs_[row] = settings.gravity.dot(head);
+      writer.value(0) = 1.0;
+      rhs_[static_cast<std::size_t>(row)] = settings.gravity.dot(head);
     }
+    writer.close();
+    grounded_[static_cast<std::size_t>(row)] = grounded ? 1 : 0;
   }
-  matrix_.resize(unknowns, unknowns);
-  matrix_.setFromTriplets(triplets_.begin(), triplets_.end());
+  assembler_.finish(matrix_, /*diagonal_first=*/true);
 }
 
-PressureSolveResult PressurePoissonSolver::solve(ParticleSet& particles, const NeighbourList& neighbours,
-                                                 const WallSampleList& samples, const SphKernel& kernel,
-                                                 const std::vector<double>& density,
-                                                 const std::vector<double>& free_surface,
-                                                 const std::vector<double>& source,
-                                                 const PressureSolveSettings& settings) {
+PressureSolveResult PressurePoissonSolver::assemble(ParticleSet& particles, const NeighbourList& neighbours,
+                                                    const WallSampleList& samples, const SphKernel& kernel,
+                                                    const std::vector<double>& density,
+                                                    const std::vector<double>& free_surface,
+                                                    const std::vector<double>& source,
+                                                    const PressureSolveSettings& settings) {
   PressureSolveResult result;
   const std::size_t n = particles.size();
   row_of_.assign(n, -1);
@@ -186,13 +152,13 @@ PressureSolveResult PressurePoissonSolver::solve(ParticleSet& particles, const N
     particle_of_.push_back(static_cast<int>(i));
   }
   result.fluid_unknowns = particle_of_.size();
+  fluid_rows_ = result.fluid_unknowns;
   for (std::size_t i = 0; i < n; ++i) {
     if (particles.type[i] != ParticleType::Wall) continue;
     bool sees_fluid = false;
     for (std::uint32_t k = neighbours.begin(i); k < neighbours.end(i) && !sees_fluid; ++k) {
       const std::uint32_t f = neighbours.indices[k];
-      sees_fluid = particles.type[f] == ParticleType::Fluid &&
-                   kernel.value((particles.position[i] - particles.position[f]).norm()) > 0.0;
+      sees_fluid = particles.type[f] == ParticleType::Fluid;
     }
     if (!sees_fluid) continue;
     row_of_[i] = static_cast<int>(particle_of_.size());
@@ -203,25 +169,69 @@ PressureSolveResult PressurePoissonSolver::solve(ParticleSet& particles, const N
   for (std::size_t i = 0; i < n; ++i) {
     if (row_of_[i] < 0) particles.pressure[i] = 0.0;
   }
+  matrix_.rows = 0;
   if (particle_of_.empty()) return result;
 
-  std::vector<char> grounded;
-  assemble(particles, neighbours, samples, kernel, density, source, settings, grounded);
-  std::vector<char> is_fluid_row(particle_of_.size(), 0);
-  for (std::size_t row = 0; row < result.fluid_unknowns; ++row) is_fluid_row[row] = 1;
-  result.ungrounded_groups = regularise_ungrounded_groups(matrix_, grounded, is_fluid_row);
-
-  if (settings.preconditioner == Preconditioner::IncompleteLut) {
-    Eigen::BiCGSTAB<RowMatrix, Eigen::IncompleteLUT<double>> solver;
-    run_bicgstab(solver, matrix_, rhs_, guess_, settings, solution_, result);
-  } else {
-    Eigen::BiCGSTAB<RowMatrix, Eigen::DiagonalPreconditioner<double>> solver;
-    run_bicgstab(solver, matrix_, rhs_, guess_, settings, solution_, result);
+  assemble_rows(particles, neighbours, samples, kernel, density, source, settings);
+  // A group of unknowns with no Dirichlet row (core/pressure_system.hpp) has a singular block:
+  // fluid rows sum to zero and wall rows are weighted averages. As in the mps method (and the
+  // public MPS-Basic code) the diagonal of such a group's fluid rows is doubled, which pins its
+  // pressure level near zero.
+  const auto groups = ungrounded_groups(matrix_, grounded_);
+  for (const auto& members : groups) {
+    for (int row : members) {
+      if (static_cast<std::size_t>(row) < fluid_rows_) {
+        matrix_.value[static_cast<std::size_t>(matrix_.row_start[static_cast<std::size_t>(row)])] *= 2.0;
+      }
+    }
   }
+  result.ungrounded_groups = groups.size();
+  return result;
+}
 
-  for (std::size_t row = 0; row < particle_of_.size(); ++row) {
-    particles.pressure[static_cast<std::size_t>(particle_of_[row])] = solution_[static_cast<Eigen::Index>(row)];
+void PressurePoissonSolver::solve_assembled(ParticleSet& particles, const PressureSolveSettings& settings,
+                                            PressureSolveResult& result) {
+  const int unknowns = matrix_.rows;
+  if (unknowns == 0) return;
+  if (!preconditioner_ || preconditioner_kind_ != settings.preconditioner) {
+    preconditioner_ = make_preconditioner(settings.preconditioner);
+    preconditioner_kind_ = settings.preconditioner;
   }
+  preconditioner_->setup(matrix_);
+
+  solution_.resize(static_cast<std::size_t>(unknowns));
+  double* pressure = particles.pressure.data();
+  const int* particle_of = particle_of_.data();
+  double* solution = solution_.data();
+  const bool warm = settings.warm_start;
+#pragma omp parallel for schedule(static)
+  for (int row = 0; row < unknowns; ++row) solution[row] = warm ? pressure[particle_of[row]] : 0.0;
+
+  // BiCGSTAB until the recomputed residual ||b - A x|| / ||b|| is below the tolerance or the
+  // iteration budget is spent (core/krylov.hpp restarts when the recurrence residual drifts).
+  KrylovSettings krylov;
+  krylov.tolerance = settings.tolerance;
+  krylov.max_iterations = settings.max_iterations;
+  const KrylovResult solved = bicgstab(matrix_, rhs_.data(), solution, *preconditioner_, krylov, workspace_);
+  if (!std::isfinite(solved.residual)) {
+    throw std::runtime_error("ISPH pressure solve: BiCGSTAB produced a non-finite pressure");
+  }
+  result.iterations = solved.iterations;
+  result.residual = solved.residual;
+  result.converged = solved.converged;
+#pragma omp parallel for schedule(static)
+  for (int row = 0; row < unknowns; ++row) pressure[particle_of[row]] = solution[row];
+}
+
+PressureSolveResult PressurePoissonSolver::solve(ParticleSet& particles, const NeighbourList& neighbours,
+                                                 const WallSampleList& samples, const SphKernel& kernel,
+                                                 const std::vector<double>& density,
+                                                 const std::vector<double>& free_surface,
+                                                 const std::vector<double>& source,
+                                                 const PressureSolveSettings& settings) {
+  PressureSolveResult result =
+      assemble(particles, neighbours, samples, kernel, density, free_surface, source, settings);
+  solve_assembled(particles, settings, result);
   return result;
 }
 

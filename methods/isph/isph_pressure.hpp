@@ -26,12 +26,16 @@
 //
 // Every row is scaled to pascals (fluid rows by rho0 l0^2, wall rows by 1 / sum_f W_wf), so the
 // relative residual ||b - A p|| / ||b|| weighs all rows alike. The wall rows make A
-// non-symmetric: BiCGSTAB (Eigen) with a diagonal or incomplete-LU preconditioner.
+// non-symmetric: BiCGSTAB (core/krylov.hpp) with a diagonal or incomplete-LU preconditioner.
+// The matrix is assembled straight into compressed rows (core/sparse_matrix.hpp), rows in
+// parallel, into storage kept from step to step.
+#include <memory>
 #include <string>
 #include <vector>
 
 #include <Eigen/Sparse>
 
+#include "core/krylov.hpp"
 #include "core/neighbour_search.hpp"
 #include "core/particles.hpp"
 #include "core/sph_kernels.hpp"
@@ -39,8 +43,8 @@
 
 namespace mps_lab::isph {
 
-enum class Preconditioner { Diagonal, IncompleteLut };
-Preconditioner preconditioner_from_name(const std::string& name);  // "diagonal" | "incomplete_lut"
+enum class PreconditionerKind { Diagonal, IncompleteLu };
+PreconditionerKind preconditioner_from_name(const std::string& name);  // "diagonal" | "incomplete_lu"
 
 struct PressureSolveSettings {
   double rest_density = 1000.0;     // rho0, kg/m^3
@@ -51,7 +55,7 @@ struct PressureSolveSettings {
   double tolerance = 1.0e-8;        // relative residual ||b - A p|| / ||b||
   long long max_iterations = 1000;  // BiCGSTAB iterations (all restarts together)
   bool warm_start = true;           // start from particles.pressure
-  Preconditioner preconditioner = Preconditioner::Diagonal;
+  PreconditionerKind preconditioner = PreconditionerKind::Diagonal;
 };
 
 struct PressureSolveResult {
@@ -81,24 +85,38 @@ class PressurePoissonSolver {
     return solve(particles, neighbours, WallSampleList{}, kernel, density, free_surface, source, settings);
   }
 
+  // Assembly alone (free-surface rows, fluid and wall rows, regularisation); fills the counts
+  // of the result. solve() = assemble() + solve_assembled().
+  PressureSolveResult assemble(ParticleSet& particles, const NeighbourList& neighbours, const WallSampleList& samples,
+                               const SphKernel& kernel, const std::vector<double>& density,
+                               const std::vector<double>& free_surface, const std::vector<double>& source,
+                               const PressureSolveSettings& settings);
+  // BiCGSTAB on the assembled system; writes the pressures of the unknowns.
+  void solve_assembled(ParticleSet& particles, const PressureSolveSettings& settings, PressureSolveResult& result);
+
   // The last assembled system and its unknowns (for tests).
-  const Eigen::SparseMatrix<double, Eigen::RowMajor>& matrix() const { return matrix_; }
-  const Eigen::VectorXd& rhs() const { return rhs_; }
+  const CsrMatrix& csr_matrix() const { return matrix_; }
+  Eigen::SparseMatrix<double, Eigen::RowMajor> matrix() const;
+  Eigen::Map<const Eigen::VectorXd> rhs() const { return {rhs_.data(), static_cast<Eigen::Index>(matrix_.rows)}; }
   const std::vector<int>& row_of_particle() const { return row_of_; }  // -1: not an unknown
   const std::vector<int>& particle_of_row() const { return particle_of_; }
 
  private:
-  void assemble(const ParticleSet& particles, const NeighbourList& neighbours, const WallSampleList& samples,
-                const SphKernel& kernel, const std::vector<double>& density, const std::vector<double>& source,
-                const PressureSolveSettings& settings, std::vector<char>& grounded);
+  void assemble_rows(const ParticleSet& particles, const NeighbourList& neighbours, const WallSampleList& samples,
+                     const SphKernel& kernel, const std::vector<double>& density, const std::vector<double>& source,
+                     const PressureSolveSettings& settings);
 
   std::vector<int> row_of_;
   std::vector<int> particle_of_;
-  std::vector<Eigen::Triplet<double>> triplets_;
-  Eigen::SparseMatrix<double, Eigen::RowMajor> matrix_;
-  Eigen::VectorXd rhs_;
-  Eigen::VectorXd guess_;
-  Eigen::VectorXd solution_;
+  std::size_t fluid_rows_ = 0;  // rows [0, fluid_rows_) are fluid, the rest walls
+  std::vector<char> grounded_;  // per unknown: touches a Dirichlet particle
+  CsrAssembler assembler_;
+  CsrMatrix matrix_;
+  std::vector<double> rhs_;       // Pa
+  std::vector<double> solution_;  // Pa
+  PreconditionerKind preconditioner_kind_ = PreconditionerKind::Diagonal;
+  std::unique_ptr<Preconditioner> preconditioner_;
+  KrylovWorkspace workspace_;
 };
 
 }  // namespace mps_lab::isph

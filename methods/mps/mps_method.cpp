@@ -30,6 +30,7 @@ class MpsMethod final : public Method {
         timers_(setup.timers),
         search_phase_(phase_id(timers_, "neighbour_search")),
         operators_phase_(phase_id(timers_, "operators")),
+        assembly_phase_(phase_id(timers_, "matrix_assembly")),
         solve_phase_(phase_id(timers_, "pressure_solve")),
         integration_phase_(phase_id(timers_, "integration")) {
     const auto& p = setup.parameters;
@@ -117,11 +118,15 @@ class MpsMethod final : public Method {
       const auto timed = measure(timers_, operators_phase_);
       number_density(particles, neighbours_, samples_, density_radius_, n_star);  // 5.2-4
     }
-    const PressureSolveResult solve = [&] {                           // 5.2-5 .. 5.2-7
-      const auto timed = measure(timers_, solve_phase_);
-      return ppe_.solve(particles, neighbours_, samples_, n_star, carries_pressure_, laplacian_radius_,
-                        density_radius_.n0, dt, settings_, particles.field("free_surface"));
+    PressureSolveResult solve = [&] {  // 5.2-5 free surface, PPE matrix and right-hand side
+      const auto timed = measure(timers_, assembly_phase_);
+      return ppe_.assemble(particles, neighbours_, samples_, n_star, carries_pressure_, laplacian_radius_,
+                           density_radius_.n0, dt, settings_, particles.field("free_surface"));
     }();
+    {  // 5.2-6 CG, 5.2-7 P < 0 -> 0
+      const auto timed = measure(timers_, solve_phase_);
+      ppe_.solve_assembled(particles, settings_, solve);
+    }
     if (!solve.converged) ++nonconverged_solves_;  // the stability monitor records it (StepReport)
     {
       const auto timed = measure(timers_, operators_phase_);
@@ -242,7 +247,7 @@ class MpsMethod final : public Method {
   const Scene& scene_;
   WallTreatmentSet walls_;
   PhaseTimers* timers_;  // core/profile.hpp; null outside a run
-  PhaseTimers::Id search_phase_, operators_phase_, solve_phase_, integration_phase_;
+  PhaseTimers::Id search_phase_, operators_phase_, assembly_phase_, solve_phase_, integration_phase_;
   OperatorRadius density_radius_, gradient_radius_, laplacian_radius_;
   double search_radius_ = 0.0;
   int pressure_wall_layers_ = 1;

@@ -2,61 +2,41 @@
 
 #include <stdexcept>
 
-#include <Eigen/IterativeLinearSolvers>
-
 #include "core/pressure_system.hpp"
 
 namespace mps_lab::mps {
 
 namespace {
 
-// A group of unknowns with no Dirichlet row (core/pressure_system.hpp) makes A singular
-// (pressure defined up to a constant). The remedy of the public MPS-Basic code (Kondo lab) is
-// kept: double the diagonal of such a group's rows, which pins its mean pressure near zero.
-// Returns the number of groups fixed.
-std::size_t regularise_ungrounded_groups(Eigen::SparseMatrix<double, Eigen::RowMajor>& matrix,
-                                         const std::vector<char>& grounded) {
-  const auto groups = ungrounded_groups(matrix, grounded);
-  for (const auto& members : groups) {
-    for (int row : members) matrix.coeffRef(row, row) *= 2.0;
-  }
-  return groups.size();
-}
-
-template <typename Solver>
-void run_cg(Solver& solver, const Eigen::SparseMatrix<double, Eigen::RowMajor>& matrix, const Eigen::VectorXd& rhs,
-            const Eigen::VectorXd& guess, const PressureSolveSettings& settings, Eigen::VectorXd& solution,
-            PressureSolveResult& result) {
-  solver.setTolerance(settings.tolerance);
-  solver.setMaxIterations(static_cast<Eigen::Index>(settings.max_iterations));
-  solver.compute(matrix);
-  if (solver.info() != Eigen::Success) throw std::runtime_error("MPS pressure solve: preconditioner setup failed");
-  if (settings.warm_start) {
-    solution = solver.solveWithGuess(rhs, guess);
-  } else {
-    solution = solver.solve(rhs);
-  }
-  result.iterations = static_cast<long long>(solver.iterations());
-  result.residual = solver.error();
-  result.converged = solver.info() == Eigen::Success;
-}
+// The row blocks of the incomplete Cholesky preconditioner: fixed (not the thread count), so
+// that the result does not depend on it; two blocks let two threads factor and solve at once.
+constexpr int kIncompleteCholeskyBlocks = 2;
 
 }  // namespace
 
-PressureSolveResult PressurePoissonSolver::solve(ParticleSet& particles, const NeighbourList& neighbours,
-                                                 const WallSampleList& samples,
-                                                 const std::vector<double>& number_density,
-                                                 const std::vector<char>& carries_pressure,
-                                                 const OperatorRadius& laplacian, double n0, double dt,
-                                                 const PressureSolveSettings& settings,
-                                                 std::vector<double>& free_surface) {
+std::unique_ptr<Preconditioner> make_preconditioner(const std::string& name) {
+  if (name == "jacobi") return std::make_unique<JacobiPreconditioner>();
+  if (name == "incomplete_cholesky") return std::make_unique<IncompleteLuPreconditioner>(kIncompleteCholeskyBlocks);
+  throw std::invalid_argument("unknown preconditioner '" + name + "' (expected jacobi or incomplete_cholesky)");
+}
+
+Eigen::SparseMatrix<double, Eigen::RowMajor> PressurePoissonSolver::matrix() const { return to_eigen(matrix_); }
+
+PressureSolveResult PressurePoissonSolver::assemble(ParticleSet& particles, const NeighbourList& neighbours,
+                                                    const WallSampleList& samples,
+                                                    const std::vector<double>& number_density,
+                                                    const std::vector<char>& carries_pressure,
+                                                    const OperatorRadius& laplacian, double n0, double dt,
+                                                    const PressureSolveSettings& settings,
+                                                    std::vector<double>& free_surface) {
   PressureSolveResult result;
   const std::size_t n = particles.size();
   row_of_.assign(n, -1);
   particle_of_.clear();
   free_surface.assign(n, 0.0);
 
-  // Free-surface detection (spec §3, §7): n*_i / n0 < beta -> surface, P = 0.
+  // Free-surface detection (spec §3, §7): n*_i / n0 < beta -> surface, P = 0. Unknowns are
+  // numbered in particle order.
   for (std::size_t i = 0; i < n; ++i) {
     if (!carries_pressure[i] || particles.type[i] == ParticleType::Ghost) continue;
     if (number_density[i] < settings.free_surface_threshold * n0) {
@@ -68,20 +48,29 @@ PressureSolveResult PressurePoissonSolver::solve(ParticleSet& particles, const N
       particle_of_.push_back(static_cast<int>(i));
     }
   }
-  const auto unknowns = static_cast<Eigen::Index>(particle_of_.size());
+  const auto unknowns = static_cast<int>(particle_of_.size());
   result.unknowns = particle_of_.size();
+  matrix_.rows = 0;
   if (unknowns == 0) return result;
 
-  // Assembly: a_ij = (2d / (n0_L lambda_L)) w_L(r_ij).
+  // Assembly: a_ij = (2d / (n0_L lambda_L)) w_L(r_ij) (spec §2 Laplacian), A_ii = sum_j a_ij,
+  // A_ij = -a_ij; the diagonal is stored first in its row. Rows in parallel: row i reads only.
   const double coefficient = 2.0 * kDimension / (laplacian.n0 * laplacian.lambda);  // 1/m^2
   const double source = settings.relaxation * settings.density / (dt * dt);        // kg/(m^3 s^2)
-  triplets_.clear();
-  rhs_.resize(unknowns);
-  guess_.resize(unknowns);
-  std::vector<char> grounded(static_cast<std::size_t>(unknowns), 0);
-  for (Eigen::Index row = 0; row < unknowns; ++row) {
+  const bool with_samples = samples.has_samples();
+  rhs_.resize(static_cast<std::size_t>(unknowns));
+  grounded_.assign(static_cast<std::size_t>(unknowns), 0);
+  assembler_.start(unknowns, [&](int row) {
     const auto i = static_cast<std::size_t>(particle_of_[static_cast<std::size_t>(row)]);
+    return static_cast<int>(1 + neighbours.count(i) + (with_samples ? samples.end(i) - samples.begin(i) : 0));
+  });
+#pragma omp parallel for schedule(static)
+  for (int row = 0; row < unknowns; ++row) {
+    const auto i = static_cast<std::size_t>(particle_of_[static_cast<std::size_t>(row)]);
+    auto writer = assembler_.row(row);
+    writer.add(row, 0.0);  // the diagonal, summed below
     double diagonal = 0.0;
+    bool grounded = false;
     for (std::uint32_t k = neighbours.begin(i); k < neighbours.end(i); ++k) {
       const std::uint32_t j = neighbours.indices[k];
       if (!carries_pressure[j] || particles.type[j] == ParticleType::Ghost) continue;
@@ -90,13 +79,13 @@ PressureSolveResult PressurePoissonSolver::solve(ParticleSet& particles, const N
       if (a == 0.0) continue;
       diagonal += a;
       if (row_of_[j] >= 0) {
-        triplets_.emplace_back(static_cast<int>(row), row_of_[j], -a);
+        writer.add(row_of_[j], -a);
       } else {
-        grounded[static_cast<std::size_t>(row)] = 1;  // a Dirichlet (P = 0) neighbour
+        grounded = true;  // a Dirichlet (P = 0) neighbour
       }
     }
     double wall_part = 0.0;  // known part of the wall samples' Laplacian terms, moved to b_i
-    if (samples.has_samples()) {
+    if (with_samples) {
       for (std::uint32_t k = samples.begin(i); k < samples.end(i); ++k) {
         const WallSample& wall = samples.samples[k];
         const double a = coefficient * wall.volume *
@@ -106,43 +95,68 @@ PressureSolveResult PressurePoissonSolver::solve(ParticleSet& particles, const N
         if (wall.source == i) continue;  // p_i - p_i
         diagonal += a;
         if (row_of_[wall.source] >= 0) {
-          triplets_.emplace_back(static_cast<int>(row), row_of_[wall.source], -a);
+          writer.add(row_of_[wall.source], -a);
         } else {
-          grounded[static_cast<std::size_t>(row)] = 1;  // the image of a Dirichlet particle
+          grounded = true;  // the image of a Dirichlet particle
         }
       }
     }
     if (diagonal == 0.0) {  // isolated: no pressure-carrying neighbour at all
       diagonal = 1.0;
-      grounded[static_cast<std::size_t>(row)] = 1;
+      grounded = true;
     }
-    triplets_.emplace_back(static_cast<int>(row), static_cast<int>(row), diagonal);
+    writer.value(0) = diagonal;
+    writer.close();
+    grounded_[static_cast<std::size_t>(row)] = grounded ? 1 : 0;
     // b_i = relaxation (rho/dt^2) (n*_i - n0)/n0   [sign: A = -<lap>]
-    rhs_[row] = source * (number_density[i] - n0) / n0 + wall_part;
-    guess_[row] = particles.pressure[i];
+    rhs_[static_cast<std::size_t>(row)] = source * (number_density[i] - n0) / n0 + wall_part;
   }
-  matrix_.resize(unknowns, unknowns);
-  matrix_.setFromTriplets(triplets_.begin(), triplets_.end());
-  result.ungrounded_groups = regularise_ungrounded_groups(matrix_, grounded);
+  assembler_.finish(matrix_, /*diagonal_first=*/true);
 
-  if (settings.preconditioner == "incomplete_cholesky") {
-    Eigen::ConjugateGradient<Eigen::SparseMatrix<double, Eigen::RowMajor>, Eigen::Lower | Eigen::Upper,
-                             Eigen::IncompleteCholesky<double>>
-        solver;
-    run_cg(solver, matrix_, rhs_, guess_, settings, solution_, result);
-  } else {
-    Eigen::ConjugateGradient<Eigen::SparseMatrix<double, Eigen::RowMajor>, Eigen::Lower | Eigen::Upper,
-                             Eigen::DiagonalPreconditioner<double>>
-        solver;
-    run_cg(solver, matrix_, rhs_, guess_, settings, solution_, result);
+  // A group of unknowns with no Dirichlet row (core/pressure_system.hpp) makes A singular
+  // (pressure defined up to a constant). The remedy of the public MPS-Basic code (Kondo lab)
+  // is kept: double the diagonal of such a group's rows, which pins its mean pressure near zero.
+  const auto groups = ungrounded_groups(matrix_, grounded_);
+  for (const auto& members : groups) {
+    for (int row : members) matrix_.value[static_cast<std::size_t>(matrix_.row_start[static_cast<std::size_t>(row)])] *= 2.0;
   }
-
-  for (Eigen::Index row = 0; row < unknowns; ++row) {
-    double pressure = solution_[row];
-    if (settings.clamp_negative && pressure < 0.0) pressure = 0.0;  // spec §5.2-7
-    particles.pressure[static_cast<std::size_t>(particle_of_[static_cast<std::size_t>(row)])] = pressure;
-  }
+  result.ungrounded_groups = groups.size();
   return result;
+}
+
+void PressurePoissonSolver::solve_assembled(ParticleSet& particles, const PressureSolveSettings& settings,
+                                            PressureSolveResult& result) {
+  const int unknowns = matrix_.rows;
+  if (unknowns == 0) return;
+  if (!preconditioner_ || preconditioner_name_ != settings.preconditioner) {
+    preconditioner_ = make_preconditioner(settings.preconditioner);
+    preconditioner_name_ = settings.preconditioner;
+  }
+  preconditioner_->setup(matrix_);
+
+  solution_.resize(static_cast<std::size_t>(unknowns));
+  double* pressure = particles.pressure.data();
+  const int* particle_of = particle_of_.data();
+  double* solution = solution_.data();
+  const bool warm = settings.warm_start;
+#pragma omp parallel for schedule(static)
+  for (int row = 0; row < unknowns; ++row) solution[row] = warm ? pressure[particle_of[row]] : 0.0;
+
+  KrylovSettings krylov;
+  krylov.tolerance = settings.tolerance;
+  krylov.max_iterations = settings.max_iterations;
+  const KrylovResult solved = conjugate_gradient(matrix_, rhs_.data(), solution, *preconditioner_, krylov, workspace_);
+  result.iterations = solved.iterations;
+  result.residual = solved.residual;
+  result.converged = solved.converged;
+
+  const bool clamp = settings.clamp_negative;
+#pragma omp parallel for schedule(static)
+  for (int row = 0; row < unknowns; ++row) {
+    double value = solution[row];
+    if (clamp && value < 0.0) value = 0.0;  // spec §5.2-7
+    pressure[particle_of[row]] = value;
+  }
 }
 
 }  // namespace mps_lab::mps

@@ -7,14 +7,20 @@
 // it). Free-surface particles (n*_i < threshold n0) have P = 0 (Dirichlet, spec §7); the
 // others are unknowns. Written as A p = b with A_ii = sum_j a_ij, A_ij = -a_ij, the matrix
 // is symmetric and, where every connected group of unknowns touches a Dirichlet particle,
-// positive definite: conjugate gradients apply.
+// positive definite: conjugate gradients apply (core/krylov.hpp).
+//
+// The matrix is assembled straight into compressed rows (core/sparse_matrix.hpp), rows in
+// parallel, into storage kept from step to step.
+#include <memory>
 #include <string>
 #include <vector>
 
 #include <Eigen/Sparse>
 
+#include "core/krylov.hpp"
 #include "core/neighbour_search.hpp"
 #include "core/particles.hpp"
+#include "core/sparse_matrix.hpp"
 #include "methods/mps/mps_operators.hpp"
 
 namespace mps_lab::mps {
@@ -26,14 +32,18 @@ struct PressureSolveSettings {
   double free_surface_threshold = 0.97;  // beta: surface if n*/n0 < beta
   double tolerance = 1.0e-8;             // relative residual ||b - A p|| / ||b||
   long long max_iterations = 10000;
-  bool warm_start = true;                // start CG from the previous pressure
-  std::string preconditioner = "jacobi";  // or "incomplete_cholesky"
-  bool clamp_negative = true;            // spec §5.2-7
+  bool warm_start = true;                 // start CG from the previous pressure
+  std::string preconditioner = "jacobi";  // "jacobi" or "incomplete_cholesky" (make_preconditioner)
+  bool clamp_negative = true;             // spec §5.2-7
 };
+
+// The CG preconditioner called `name`: "jacobi" (diagonal) or "incomplete_cholesky" (IC(0)
+// on two fixed row blocks, core/krylov.hpp). Throws std::invalid_argument for another name.
+std::unique_ptr<Preconditioner> make_preconditioner(const std::string& name);
 
 struct PressureSolveResult {
   long long iterations = 0;
-  double residual = 0.0;             // relative, as reported by the solver
+  double residual = 0.0;             // ||b - A p|| / ||b|| of the returned pressure
   bool converged = true;
   std::size_t unknowns = 0;
   std::size_t surface = 0;           // pressure-carrying particles held at P = 0
@@ -42,30 +52,53 @@ struct PressureSolveResult {
 
 class PressurePoissonSolver {
  public:
-  // Sets particles.pressure for every pressure-carrying particle (0 on the surface) and
-  // free_surface[i] = 1 for surface particles. `n0` is the number-density constant of the
-  // source term, `laplacian` the radius and constants of the Laplacian model.
+  // Free surface, matrix and right-hand side (spec §5.2-5, §8): sets free_surface[i] = 1 and
+  // P = 0 for surface particles; fills unknowns, surface and ungrounded_groups of the result.
+  // `n0` is the number-density constant of the source term, `laplacian` the radius and
+  // constants of the Laplacian model.
   // Wall samples (core/wall_samples.hpp) add a_iw (p_s + rho g.(x_w - x_s) - p_i) to the
   // Laplacian of row i: for s = i only the known hydrostatic part remains (right-hand side),
   // for a mirror image of j the row couples to j (symmetric: the image of i seen from j has
   // the same weight), and a Dirichlet source leaves its constant part.
+  PressureSolveResult assemble(ParticleSet& particles, const NeighbourList& neighbours, const WallSampleList& samples,
+                               const std::vector<double>& number_density, const std::vector<char>& carries_pressure,
+                               const OperatorRadius& laplacian, double n0, double dt,
+                               const PressureSolveSettings& settings, std::vector<double>& free_surface);
+
+  // Solves the assembled system by preconditioned CG (spec §5.2-6) from the previous pressure
+  // (warm start) or zero, and writes P of every unknown, negative values clamped to 0 when
+  // asked (spec §5.2-7). Fills iterations, residual and converged of `result`.
+  void solve_assembled(ParticleSet& particles, const PressureSolveSettings& settings, PressureSolveResult& result);
+
+  // Both of the above.
   PressureSolveResult solve(ParticleSet& particles, const NeighbourList& neighbours, const WallSampleList& samples,
                             const std::vector<double>& number_density, const std::vector<char>& carries_pressure,
                             const OperatorRadius& laplacian, double n0, double dt,
-                            const PressureSolveSettings& settings, std::vector<double>& free_surface);
+                            const PressureSolveSettings& settings, std::vector<double>& free_surface) {
+    PressureSolveResult result = assemble(particles, neighbours, samples, number_density, carries_pressure, laplacian,
+                                          n0, dt, settings, free_surface);
+    solve_assembled(particles, settings, result);
+    return result;
+  }
 
   // The last assembled system (for tests).
-  const Eigen::SparseMatrix<double, Eigen::RowMajor>& matrix() const { return matrix_; }
-  const Eigen::VectorXd& rhs() const { return rhs_; }
+  const CsrMatrix& csr_matrix() const { return matrix_; }
+  Eigen::SparseMatrix<double, Eigen::RowMajor> matrix() const;
+  Eigen::Map<const Eigen::VectorXd> rhs() const {
+    return {rhs_.data(), static_cast<Eigen::Index>(matrix_.rows)};
+  }
 
  private:
   std::vector<int> row_of_;  // particle -> unknown index, -1 if not an unknown
   std::vector<int> particle_of_;
-  std::vector<Eigen::Triplet<double>> triplets_;
-  Eigen::SparseMatrix<double, Eigen::RowMajor> matrix_;
-  Eigen::VectorXd rhs_;
-  Eigen::VectorXd guess_;
-  Eigen::VectorXd solution_;
+  std::vector<char> grounded_;  // per unknown: touches a Dirichlet particle
+  CsrAssembler assembler_;
+  CsrMatrix matrix_;
+  std::vector<double> rhs_;       // Pa/m^2
+  std::vector<double> solution_;  // Pa
+  std::string preconditioner_name_;
+  std::unique_ptr<Preconditioner> preconditioner_;
+  KrylovWorkspace workspace_;
 };
 
 }  // namespace mps_lab::mps
