@@ -3,6 +3,7 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "core/amg.hpp"
 #include "core/pressure_system.hpp"
 #include "methods/isph/isph_operators.hpp"
 
@@ -16,6 +17,7 @@ constexpr int kIncompleteLuBlocks = 2;
 
 std::unique_ptr<Preconditioner> make_preconditioner(PreconditionerKind kind) {
   if (kind == PreconditionerKind::IncompleteLu) return std::make_unique<IncompleteLuPreconditioner>(kIncompleteLuBlocks);
+  if (kind == PreconditionerKind::Amg) return std::make_unique<AmgPreconditioner>();  // core/amg.hpp
   return std::make_unique<JacobiPreconditioner>();
 }
 
@@ -24,7 +26,8 @@ std::unique_ptr<Preconditioner> make_preconditioner(PreconditionerKind kind) {
 PreconditionerKind preconditioner_from_name(const std::string& name) {
   if (name == "diagonal") return PreconditionerKind::Diagonal;
   if (name == "incomplete_lu") return PreconditionerKind::IncompleteLu;
-  throw std::invalid_argument("unknown preconditioner '" + name + "' (expected diagonal or incomplete_lu)");
+  if (name == "amg") return PreconditionerKind::Amg;
+  throw std::invalid_argument("unknown preconditioner '" + name + "' (expected diagonal, incomplete_lu or amg)");
 }
 
 Eigen::SparseMatrix<double, Eigen::RowMajor> PressurePoissonSolver::matrix() const { return to_eigen(matrix_); }

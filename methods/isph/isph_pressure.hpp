@@ -43,8 +43,8 @@
 
 namespace mps_lab::isph {
 
-enum class PreconditionerKind { Diagonal, IncompleteLu };
-PreconditionerKind preconditioner_from_name(const std::string& name);  // "diagonal" | "incomplete_lu"
+enum class PreconditionerKind { Diagonal, IncompleteLu, Amg };
+PreconditionerKind preconditioner_from_name(const std::string& name);  // "diagonal" | "incomplete_lu" | "amg"
 
 struct PressureSolveSettings {
   double rest_density = 1000.0;     // rho0, kg/m^3

@@ -2,6 +2,7 @@
 
 #include <stdexcept>
 
+#include "core/amg.hpp"
 #include "core/pressure_system.hpp"
 
 namespace mps_lab::mps {
@@ -17,7 +18,8 @@ constexpr int kIncompleteCholeskyBlocks = 2;
 std::unique_ptr<Preconditioner> make_preconditioner(const std::string& name) {
   if (name == "jacobi") return std::make_unique<JacobiPreconditioner>();
   if (name == "incomplete_cholesky") return std::make_unique<IncompleteLuPreconditioner>(kIncompleteCholeskyBlocks);
-  throw std::invalid_argument("unknown preconditioner '" + name + "' (expected jacobi or incomplete_cholesky)");
+  if (name == "amg") return std::make_unique<AmgPreconditioner>();  // core/amg.hpp, smoothed aggregation
+  throw std::invalid_argument("unknown preconditioner '" + name + "' (expected jacobi, incomplete_cholesky or amg)");
 }
 
 Eigen::SparseMatrix<double, Eigen::RowMajor> PressurePoissonSolver::matrix() const { return to_eigen(matrix_); }
