@@ -29,6 +29,7 @@
 #include "core/geometry.hpp"
 #include "core/method.hpp"
 #include "core/output.hpp"
+#include "core/profile.hpp"
 #include "core/scene.hpp"
 #include "methods/dfsph/dfsph_operators.hpp"
 #include "methods/dfsph/dfsph_solvers.hpp"
@@ -88,7 +89,13 @@ class DfsphMethod final : public Method {
  public:
   explicit DfsphMethod(const MethodSetup& setup)
       : scene_(setup.scene),
-        walls_(setup.wall_treatments, setup.scene),
+        walls_(setup.wall_treatments, setup.scene, setup.timers),
+        timers_(setup.timers),
+        search_phase_(phase_id(timers_, "neighbour_search")),
+        operators_phase_(phase_id(timers_, "operators")),
+        divergence_phase_(phase_id(timers_, "divergence_solve")),
+        density_phase_(phase_id(timers_, "density_solve")),
+        integration_phase_(phase_id(timers_, "integration")),
         kernel_(sph_kernel_from_name(setup.parameters.string("kernel")),
                 setup.parameters.number("kernel_support") * setup.scene.particle_spacing) {
     const auto& p = setup.parameters;
@@ -140,8 +147,10 @@ class DfsphMethod final : public Method {
     WallContext context{particles, &neighbours_, scene_.time.time_step, scene_};
     build_samples(context);
     const double l0 = scene_.particle_spacing;
+    compute_kernel_cache(particles, neighbours_, kernel_, cache_);  // the boundary masses need W_bk
     compute_boundary_masses(particles, neighbours_, cache_, boundary_wall_layers_, rest_density_, boundary_volume_,
                             l0 * l0, boundary_mass_);
+    cache_kernels(particles);
     auto& volume = particles.field("boundary_volume");
     for (std::size_t i = 0; i < n; ++i) volume[i] = boundary_mass_[i] / rest_density_;
     density_stiffness_.assign(n, 0.0);
@@ -178,26 +187,38 @@ class DfsphMethod final : public Method {
   }
 
   StepReport step(ParticleSet& particles, double dt) override {
-    const std::size_t n = particles.size();
-    const auto count = static_cast<std::ptrdiff_t>(n);
+    const auto count = static_cast<std::ptrdiff_t>(particles.size());
+    const bool threaded = count >= kThreadedLoopMinimum;
     WallContext context{particles, &neighbours_, dt, scene_};
 
     // 1. neighbourhoods (and the wall samples of a boundary model without wall particles)
-    search(particles);
-    build_samples(context);
+    {
+      const auto timed = measure(timers_, search_phase_);
+      search(particles);
+    }
+    build_samples(context);  // the boundary model's samples: timed as "wall_treatment" by walls_
+    {
+      const auto timed = measure(timers_, operators_phase_);
+      cache_kernels(particles);
+    }
     walls_.after_neighbour_search(context);
     const SphSystem sph = system();
 
     // 2. densities and factors alpha_i
     auto& density = particles.field("density");
     auto& alpha = particles.field("dfsph_factor");
-    compute_densities(particles, sph, density);
-    compute_dfsph_factors(particles, sph, density, alpha);
-    const double compression = mean_compression(particles, density);
+    double compression = 0.0;
+    {
+      const auto timed = measure(timers_, operators_phase_);
+      compute_densities(particles, sph, density);
+      compute_dfsph_factors(particles, sph, density, alpha);
+      compression = mean_compression(particles, density);
+    }
 
     // 3. divergence-free solver (Algorithm 2)
     SolverOutcome divergence;
     if (divergence_enabled_) {
+      const auto timed = measure(timers_, divergence_phase_);
       divergence = correct_divergence_error(particles, sph, density, alpha, dt, divergence_settings_,
                                             divergence_min_neighbours_, divergence_stiffness_, workspace_);
       divergence_totals_.add(divergence);
@@ -206,46 +227,63 @@ class DfsphMethod final : public Method {
     }
 
     // 4. non-pressure forces
-    const Vec2 gravity = scene_.physics.gravity;
-#pragma omp parallel for schedule(static) if (count >= kThreadedLoopMinimum)
-    for (std::ptrdiff_t i = 0; i < count; ++i) {
-      acceleration_[i] = particles.type[i] == ParticleType::Fluid ? gravity : Vec2::Zero();
+    {
+      const auto timed = measure(timers_, operators_phase_);
+      const Vec2 gravity = scene_.physics.gravity;
+#pragma omp parallel for schedule(static) if (threaded)
+      for (std::ptrdiff_t i = 0; i < count; ++i) {
+        acceleration_[i] = particles.type[i] == ParticleType::Fluid ? gravity : Vec2::Zero();
+      }
+      if (scene_.physics.kinematic_viscosity > 0.0) {
+        add_viscous_acceleration(particles, sph, density, scene_.physics.kinematic_viscosity, kernel_.support(),
+                                 acceleration_);
+      }
+      if (sample_hydrostatic_) add_sample_hydrostatic_acceleration(particles, sph, density, gravity, acceleration_);
     }
-    if (scene_.physics.kinematic_viscosity > 0.0) {
-      add_viscous_acceleration(particles, sph, density, scene_.physics.kinematic_viscosity, kernel_.support(),
-                               acceleration_);
-    }
-    if (sample_hydrostatic_) add_sample_hydrostatic_acceleration(particles, sph, density, gravity, acceleration_);
 
     // 5. the time step dt was chosen by time_step(); 6. predicted velocities
-#pragma omp parallel for schedule(static) if (count >= kThreadedLoopMinimum)
-    for (std::ptrdiff_t i = 0; i < count; ++i) {
-      if (particles.type[i] == ParticleType::Fluid) particles.velocity[i] += dt * acceleration_[i];
+    {
+      const auto timed = measure(timers_, integration_phase_);
+#pragma omp parallel for schedule(static) if (threaded)
+      for (std::ptrdiff_t i = 0; i < count; ++i) {
+        if (particles.type[i] == ParticleType::Fluid) particles.velocity[i] += dt * acceleration_[i];
+      }
     }
     walls_.after_explicit_velocity(context);
 
-    // 7. constant-density solver (Algorithm 3); the pressure it applied, in Pa
-    const SolverOutcome pressure =
-        correct_density_error(particles, sph, density, alpha, dt, density_settings_, density_stiffness_, workspace_);
-    density_totals_.add(pressure);
-    // Both solvers applied the pressure-force operator at x^n during this step, so the
-    // momentum the step gave is that of p = (kappa + kappa^v) rho (docs/methods/dfsph.md).
-    auto& divergence_pressure = particles.field("divergence_pressure");
-#pragma omp parallel for schedule(static) if (count >= kThreadedLoopMinimum)
-    for (std::ptrdiff_t i = 0; i < count; ++i) {
-      const bool fluid = particles.type[i] == ParticleType::Fluid;
-      divergence_pressure[i] = fluid ? divergence_stiffness_[i] * density[i] : 0.0;
-      if (fluid) particles.pressure[i] = density_stiffness_[i] * density[i] + divergence_pressure[i];
+    // 7. constant-density solver (Algorithm 3)
+    SolverOutcome pressure;
+    {
+      const auto timed = measure(timers_, density_phase_);
+      pressure =
+          correct_density_error(particles, sph, density, alpha, dt, density_settings_, density_stiffness_, workspace_);
+      density_totals_.add(pressure);
     }
-    if (walls_.wall_particles()) compute_boundary_pressures(particles, sph, density, scene_.particle_spacing);
 
-    // 8. advection
-#pragma omp parallel for schedule(static) if (count >= kThreadedLoopMinimum)
-    for (std::ptrdiff_t i = 0; i < count; ++i) {
-      if (particles.type[i] == ParticleType::Fluid) particles.position[i] += dt * particles.velocity[i];
+    // The pressure the step applied, in Pa, and 8. advection. Both solvers applied the
+    // pressure-force operator at x^n during this step, so the momentum the step gave is that
+    // of p = (kappa + kappa^v) rho (docs/methods/dfsph.md).
+    {
+      const auto timed = measure(timers_, integration_phase_);
+      auto& divergence_pressure = particles.field("divergence_pressure");
+#pragma omp parallel for schedule(static) if (threaded)
+      for (std::ptrdiff_t i = 0; i < count; ++i) {
+        const bool fluid = particles.type[i] == ParticleType::Fluid;
+        divergence_pressure[i] = fluid ? divergence_stiffness_[i] * density[i] : 0.0;
+        if (!fluid) continue;
+        particles.pressure[i] = density_stiffness_[i] * density[i] + divergence_pressure[i];
+        particles.position[i] += dt * particles.velocity[i];
+      }
+    }
+    if (walls_.wall_particles()) {  // reads the fluid pressures and the kernel cache at x^n, not positions
+      const auto timed = measure(timers_, operators_phase_);
+      compute_boundary_pressures(particles, sph, kernel_, density, scene_.particle_spacing);
     }
     walls_.after_correction(context);
-    ghosts_ += mark_escaped_as_ghosts(particles, scene_);
+    {
+      const auto timed = measure(timers_, integration_phase_);
+      ghosts_ += mark_escaped_as_ghosts(particles, scene_);
+    }
 
     advance_clock(dt);
     StepReport report;
@@ -353,14 +391,19 @@ class DfsphMethod final : public Method {
     context.support = kernel_.support();
     walls_.build_wall_samples(context, samples_);
     context.samples = &samples_;
-    const double l0 = scene_.particle_spacing;
-    compute_sample_cache(context.particles, samples_, kernel_, rest_density_, l0 * l0, sample_cache_);
   }
 
   void search(const ParticleSet& particles) {
     cells_.build(particles.position, particles.type, kernel_.support());
     cells_.find_neighbours(particles.position, particles.type, kernel_.support(), neighbours_);
-    compute_kernel_cache(particles, neighbours_, kernel_, cache_);
+  }
+
+  // W and grad W of every neighbour pair and wall sample, once per step at x^n: every operator
+  // and solver iteration of the step reads them.
+  void cache_kernels(const ParticleSet& particles) {
+    compute_kernel_cache(particles, neighbours_, kernel_, particle_mass_, boundary_mass_, cache_);
+    const double l0 = scene_.particle_spacing;
+    compute_sample_cache(particles, samples_, kernel_, rest_density_, l0 * l0, sample_cache_);
   }
 
   // Mean max(rho_i - rho0, 0) / rho0 over the fluid at the start of the step: the compression
@@ -396,6 +439,8 @@ class DfsphMethod final : public Method {
 
   const Scene& scene_;
   WallTreatmentSet walls_;
+  PhaseTimers* timers_;  // core/profile.hpp; null outside a run
+  PhaseTimers::Id search_phase_, operators_phase_, divergence_phase_, density_phase_, integration_phase_;
   SphKernel kernel_;
   double rest_density_ = 1000.0;   // kg/m^3
   double particle_mass_ = 0.0;     // kg/m

@@ -5,20 +5,54 @@
 
 namespace mps_lab::dfsph {
 
-void compute_kernel_cache(const ParticleSet& particles, const NeighbourList& neighbours, const SphKernel& kernel,
-                          KernelCache& cache) {
-  cache.value.resize(neighbours.indices.size());
-  cache.gradient.resize(neighbours.indices.size());
+namespace {
+
+// W_ij and grad_i W_ij of one pair, |r_ij| computed once: = kernel.value(|r_ij|), kernel.gradient(r_ij).
+inline void evaluate_kernel(const SphKernel& kernel, const Vec2& r_ij, double& value, Vec2& gradient) {
+  const double r = r_ij.norm();  // m
+  value = kernel.value(r);
+  gradient = r <= 0.0 || r >= kernel.support() ? Vec2::Zero() : Vec2(kernel.derivative(r) / r * r_ij);
+}
+
+// Both forms of compute_kernel_cache; `boundary_mass` null: every row, without the weighted
+// gradients; else the rows of fluid particles only, with them.
+void fill_kernel_cache(const ParticleSet& particles, const NeighbourList& neighbours, const SphKernel& kernel,
+                       double particle_mass, const std::vector<double>* boundary_mass, KernelCache& cache) {
+  const std::size_t pairs = neighbours.indices.size();
+  const bool weighted = boundary_mass != nullptr;
+  cache.value.resize(pairs);
+  cache.gradient.resize(pairs);
+  cache.weighted_gradient.resize(weighted ? pairs : 0);
   cache.self_value = kernel.value(0.0);
   const auto n = static_cast<std::ptrdiff_t>(neighbours.particle_count());
 #pragma omp parallel for schedule(static) if (n >= kThreadedLoopMinimum)
   for (std::ptrdiff_t i = 0; i < n; ++i) {
+    if (weighted && particles.type[i] != ParticleType::Fluid) continue;
     for (std::uint32_t k = neighbours.begin(i); k < neighbours.end(i); ++k) {
-      const Vec2 r_ij = particles.position[i] - particles.position[neighbours.indices[k]];
-      cache.value[k] = kernel.value(r_ij.norm());
-      cache.gradient[k] = kernel.gradient(r_ij);
+      const std::uint32_t j = neighbours.indices[k];
+      evaluate_kernel(kernel, particles.position[i] - particles.position[j], cache.value[k], cache.gradient[k]);
+      if (!weighted) continue;
+      double mass = 0.0;  // kg/m: m (fluid), Psi_b (boundary; 0 for an unused wall layer)
+      if (particles.type[j] == ParticleType::Fluid) {
+        mass = particle_mass;
+      } else if (particles.type[j] == ParticleType::Wall) {
+        mass = (*boundary_mass)[j];
+      }
+      cache.weighted_gradient[k] = mass * cache.gradient[k];
     }
   }
+}
+
+}  // namespace
+
+void compute_kernel_cache(const ParticleSet& particles, const NeighbourList& neighbours, const SphKernel& kernel,
+                          KernelCache& cache) {
+  fill_kernel_cache(particles, neighbours, kernel, 0.0, nullptr, cache);
+}
+
+void compute_kernel_cache(const ParticleSet& particles, const NeighbourList& neighbours, const SphKernel& kernel,
+                          double particle_mass, const std::vector<double>& boundary_mass, KernelCache& cache) {
+  fill_kernel_cache(particles, neighbours, kernel, particle_mass, &boundary_mass, cache);
 }
 
 void compute_sample_cache(const ParticleSet& particles, const WallSampleList& samples, const SphKernel& kernel,
@@ -218,41 +252,6 @@ void compute_density_change_rate(const ParticleSet& particles, const SphSystem& 
   }
 }
 
-void apply_pressure_velocity_change(ParticleSet& particles, const SphSystem& system,
-                                    const std::vector<double>& stiffness_over_density, double dt) {
-  const auto& list = system.neighbours;
-  const double m = system.particle_mass;
-  const auto& s = stiffness_over_density;
-  const auto n = static_cast<std::ptrdiff_t>(particles.size());
-#pragma omp parallel for schedule(static) if (n >= kThreadedLoopMinimum)
-  for (std::ptrdiff_t i = 0; i < n; ++i) {
-    if (particles.type[i] != ParticleType::Fluid) continue;
-    Vec2 acceleration = Vec2::Zero();  // -(1/rho) grad p, m/s^2
-    for (std::uint32_t k = list.begin(i); k < list.end(i); ++k) {
-      const std::uint32_t j = list.indices[k];
-      if (particles.type[j] == ParticleType::Fluid) {
-        acceleration -= m * (s[i] + s[j]) * system.kernel.gradient[k];  // [BK17] eqs. (7)-(8): force along grad rho_i + reactions
-      } else if (is_boundary(particles, system, j)) {
-        acceleration -= system.boundary_mass[j] * s[i] * system.kernel.gradient[k];  // p_b = p_i, once ([AIA12], authors' code)
-      }
-    }
-    if (system.has_samples()) {
-      const auto& w = *system.sample_kernel;
-      // The constraint force of the samples: -s_i G_ii (for a sample at rest Psi_w s_i grad W_iw,
-      // [AIA12]'s mirroring), and the reaction of every constraint k whose samples move with i
-      // (images of i seen by k): -s_k G_ki = +s_k Psi M^T grad W_kw.
-      for (std::uint32_t k = system.samples->begin(i); k < system.samples->end(i); ++k) {
-        acceleration -= s[i] * w.own[k];
-      }
-      for (std::uint32_t q = w.by_source_offsets[i]; q < w.by_source_offsets[i + 1]; ++q) {
-        const std::uint32_t k = w.by_source[q];
-        acceleration += s[w.owner[k]] * w.reaction[k];
-      }
-    }
-    particles.velocity[i] += dt * acceleration;
-  }
-}
-
 void add_viscous_acceleration(const ParticleSet& particles, const SphSystem& system,
                               const std::vector<double>& density, double kinematic_viscosity, double support,
                               std::vector<Vec2>& acceleration) {
@@ -299,8 +298,8 @@ void add_viscous_acceleration(const ParticleSet& particles, const SphSystem& sys
   }
 }
 
-void compute_boundary_pressures(ParticleSet& particles, const SphSystem& system, const std::vector<double>& density,
-                                double face_length) {
+void compute_boundary_pressures(ParticleSet& particles, const SphSystem& system, const SphKernel& kernel,
+                                const std::vector<double>& density, double face_length) {
   const auto& list = system.neighbours;
   const double m = system.particle_mass;
   const auto n = static_cast<std::ptrdiff_t>(particles.size());
@@ -312,10 +311,11 @@ void compute_boundary_pressures(ParticleSet& particles, const SphSystem& system,
       for (std::uint32_t k = list.begin(b); k < list.end(b); ++k) {
         const std::uint32_t f = list.indices[k];
         if (particles.type[f] != ParticleType::Fluid) continue;
-        // Reaction to the boundary term of apply_pressure_velocity_change on f:
-        // m Psi_b (p_f / rho_f^2) grad_f W_fb, and grad_f W_fb = -grad_b W_bf (cached for b).
+        // Reaction to the boundary term of the solvers' pressure correction on f:
+        // m Psi_b (p_f / rho_f^2) grad_f W_fb, and grad_f W_fb = -grad_b W_bf (evaluated here:
+        // the step's kernel cache holds the rows of fluid particles only).
         const double s_f = particles.pressure[f] / (density[f] * density[f]);
-        force -= m * system.boundary_mass[b] * s_f * system.kernel.gradient[k];
+        force -= m * system.boundary_mass[b] * s_f * kernel.gradient(particles.position[b] - particles.position[f]);
       }
     }
     particles.pressure[b] = force.norm() / face_length;
@@ -331,6 +331,8 @@ void count_active_neighbours(const ParticleSet& particles, const SphSystem& syst
   counts.resize(particles.size());
 #pragma omp parallel for schedule(static) if (n >= kThreadedLoopMinimum)
   for (std::ptrdiff_t i = 0; i < n; ++i) {
+    counts[i] = 0.0;
+    if (particles.type[i] != ParticleType::Fluid) continue;
     std::uint32_t count = 0;
     for (std::uint32_t k = list.begin(i); k < list.end(i); ++k) {
       const std::uint32_t j = list.indices[k];

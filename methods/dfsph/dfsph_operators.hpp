@@ -49,6 +49,12 @@ struct KernelCache {
   std::vector<double> value;     // W_ij, 1/m^2
   std::vector<Vec2> gradient;    // grad_i W_ij, 1/m^3
   double self_value = 0.0;       // W(0), 1/m^2
+  // c_ij, the coefficient of the pair in D rho_i/Dt = sum_j c_ij . (v_i - v_j) ([BK17] eq. (9))
+  // and in the pressure correction (eqs. (7)-(8)): m grad W_ij for a fluid neighbour j,
+  // Psi_b grad W_ib for a boundary particle b, 0 for an inert neighbour; on the rows of fluid
+  // particles (0 on the others), kg/m^4. Empty unless the cache was computed with the masses
+  // (the solvers then weight the gradients themselves).
+  std::vector<Vec2> weighted_gradient;
 };
 
 // W, grad_i W(x_i - x_w), Psi_w and the constraint gradients of every wall sample (aligned
@@ -90,6 +96,11 @@ inline bool is_boundary(const ParticleSet& particles, const SphSystem& system, s
 
 void compute_kernel_cache(const ParticleSet& particles, const NeighbourList& neighbours, const SphKernel& kernel,
                           KernelCache& cache);
+// The step's cache: the rows of fluid particles only (all that the step's operators and
+// solvers read; the other rows are left as they were), with their weighted gradients c_ij
+// from the fluid particle mass m (kg/m) and the boundary masses Psi_b (compute_boundary_masses).
+void compute_kernel_cache(const ParticleSet& particles, const NeighbourList& neighbours, const SphKernel& kernel,
+                          double particle_mass, const std::vector<double>& boundary_mass, KernelCache& cache);
 
 // W_iw, grad_i W_iw and Psi_w = rho0 V_w `lattice_volume` for every sample of `samples`
 // (`lattice_volume` = l0^2, m^2). Empty for a list without samples.
@@ -125,16 +136,6 @@ void compute_dfsph_factors(const ParticleSet& particles, const SphSystem& system
 // particles only, others 0.
 void compute_density_change_rate(const ParticleSet& particles, const SphSystem& system, std::vector<double>& rate);
 
-// The velocity change of the DFSPH pressure forces ([BK17] eqs. (7)-(8): the force along
-// -grad rho_i and its reactions on the neighbours, summed over the pairs; Algorithms 2, 3):
-//   v_i <- v_i - dt [ sum_j m (s_i + s_j) grad W_ij + sum_b Psi_b s_i grad W_ib ],
-// with s_i = kappa_i / rho_i = p_i / rho_i^2 (the symmetric SPH pressure gradient; the
-// boundary term mirrors p_b = p_i and acts once, as in [AIA12] and the authors' code; a wall
-// sample adds - dt Psi_w s_source grad W_iw).
-// Reads only `stiffness_over_density`, writes only the fluid velocities: a Jacobi update.
-void apply_pressure_velocity_change(ParticleSet& particles, const SphSystem& system,
-                                    const std::vector<double>& stiffness_over_density, double dt);
-
 // Laminar viscosity of [MFZ97] eq. (8) with mu = rho nu:
 //   a_i += sum_j m_j nu (rho_i + rho_j) / (rho_i rho_j) (r_ij . grad W_ij) / (|r_ij|^2 + eta^2) (v_i - v_j),
 // r_ij = x_i - x_j, eta = 0.1 h (h = support / 2). Boundary neighbours count with mass
@@ -145,17 +146,19 @@ void add_viscous_acceleration(const ParticleSet& particles, const SphSystem& sys
                               std::vector<Vec2>& acceleration);
 
 // Pressure of the boundary particles, for output: the pressure force the fluid exerts on
-// boundary particle b (the reaction to the boundary term of apply_pressure_velocity_change,
+// boundary particle b (the reaction to the boundary term of the solvers' pressure correction,
 // with the fluid pressures p_f = particles.pressure of this step) divided by the wall face
 // a particle carries, `face_length` = l0 (per metre of depth):
 //   p_b = | sum_f m Psi_b (p_f / rho_f^2) grad_f W_fb | / l0.
 // On a flat wall this is the wall pressure; summed over a wall it is the force the fluid
 // exerts on it (momentum balance). 0 for wall particles without fluid neighbours.
-void compute_boundary_pressures(ParticleSet& particles, const SphSystem& system, const std::vector<double>& density,
-                                double face_length);
+// Evaluates grad W itself (`kernel`): it reads the rows of boundary particles.
+void compute_boundary_pressures(ParticleSet& particles, const SphSystem& system, const SphKernel& kernel,
+                                const std::vector<double>& density, double face_length);
 
-// Neighbours that take part in the sums (fluid or boundary), per particle; a wall sample
-// counts as its volume V_w (a lattice point of the wall counts 1, as a boundary particle).
+// Neighbours that take part in the sums (fluid or boundary), per fluid particle (0 for the
+// others); a wall sample counts as its volume V_w (a lattice point of the wall counts 1, as a
+// boundary particle).
 void count_active_neighbours(const ParticleSet& particles, const SphSystem& system, std::vector<double>& counts);
 
 // The hydrostatic part of the wall samples' pressure (core/wall_samples.hpp), as an explicit

@@ -6,70 +6,187 @@
 namespace mps_lab::dfsph {
 namespace {
 
-// Mean of per-particle errors over the fluid particles, summed in index order (the same
-// result whatever the thread count).
-double fluid_mean(const ParticleSet& particles, const std::vector<double>& values) {
-  double sum = 0.0;
-  std::size_t count = 0;
-  for (std::size_t i = 0; i < particles.size(); ++i) {
-    if (particles.type[i] != ParticleType::Fluid) continue;
-    sum += values[i];
-    ++count;
+// Fluid particles per block of the error sum. Fixed (not per thread), so that the partial
+// sums and their ordered total are the same for every thread count.
+constexpr std::size_t kErrorBlock = 64;
+
+// Fills the workspace for one solve: the fluid list, the solver's velocities (fluid, 0 for
+// every other particle: boundary particles do not move), no correction pending, s = 0 and
+// zero stiffness outside the fluid; the pair coefficients c_ij if the kernel cache has none.
+// Returns c_ij (KernelCache::weighted_gradient).
+const Vec2* prepare(const ParticleSet& particles, const SphSystem& system, std::vector<double>& stiffness,
+                    SolverWorkspace& w) {
+  const std::size_t n = particles.size();
+  stiffness.resize(n, 0.0);
+  w.velocity.resize(n);
+  w.increment.resize(n);
+  w.stiffness_over_density.resize(n);
+  w.fluid.clear();
+  w.fluid.reserve(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    const bool fluid = particles.type[i] == ParticleType::Fluid;
+    if (fluid) w.fluid.push_back(static_cast<std::uint32_t>(i));
+    w.velocity[i] = fluid ? particles.velocity[i] : Vec2::Zero();
+    w.increment[i] = 0.0;
+    w.stiffness_over_density[i] = 0.0;
+    if (!fluid) stiffness[i] = 0.0;
   }
-  return count > 0 ? sum / static_cast<double>(count) : 0.0;
+  w.block_error.resize((w.fluid.size() + kErrorBlock - 1) / kErrorBlock);
+  const auto& list = system.neighbours;
+  if (system.kernel.weighted_gradient.size() == list.indices.size()) return system.kernel.weighted_gradient.data();
+  w.weighted_gradient.assign(list.indices.size(), Vec2::Zero());  // as compute_kernel_cache with the masses
+  for (const std::uint32_t i : w.fluid) {
+    for (std::uint32_t k = list.begin(i); k < list.end(i); ++k) {
+      const std::uint32_t j = list.indices[k];
+      const double mass = particles.type[j] == ParticleType::Fluid ? system.particle_mass
+                          : is_boundary(particles, system, j)      ? system.boundary_mass[j]
+                                                                   : 0.0;
+      w.weighted_gradient[k] = mass * system.kernel.gradient[k];
+    }
+  }
+  return w.weighted_gradient.data();
 }
 
 // The iteration shared by Algorithms 2 and 3 of [BK17].
-//   predict():    fills workspace.source from the current velocities, returns the error;
-//   increment(i): the stiffness increment of fluid particle i from workspace.source (>= 0).
-template <class Predict, class Increment>
+//   settle(i, rate, relative): from D rho_i/Dt (kg/(m^3 s), [BK17] eq. (9)) sets the relative
+//   error of i (its clamped source over rho0) and returns its stiffness increment (m^2/s^2, >= 0).
+template <class Settle>
 SolverOutcome iterate(ParticleSet& particles, const SphSystem& system, const std::vector<double>& density, double dt,
-                      const SolverSettings& settings, std::vector<double>& stiffness, SolverWorkspace& workspace,
-                      Predict predict, Increment increment) {
-  const std::size_t n = particles.size();
-  const auto count = static_cast<std::ptrdiff_t>(n);
-  stiffness.resize(n, 0.0);
-  auto& s = workspace.stiffness_over_density;
-  s.assign(n, 0.0);
-
-  double error = predict();
-  // Warm start ([BK17]; the fraction and the reset are the authors' code's): apply the last
-  // step's total stiffness, times the fraction, to the particles that are compressed now;
-  // the others start from zero, so that a stiffness left over from a past compression
-  // cannot push apart particles that are no longer compressed (increments are >= 0: a
-  // stiffness can only grow within a step).
+                      const SolverSettings& settings, std::vector<double>& stiffness, SolverWorkspace& w,
+                      Settle settle) {
+  const Vec2* coefficient = prepare(particles, system, stiffness, w);  // c_ij, kg/m^4
+  const std::uint32_t* offsets = system.neighbours.offsets.data();
+  const std::uint32_t* neighbour = system.neighbours.indices.data();
+  const std::uint32_t* fluid = w.fluid.data();
+  Vec2* velocity = w.velocity.data();
+  double* s = w.stiffness_over_density.data();
+  double* increment = w.increment.data();
+  double* block_error = w.block_error.data();
+  const WallSampleList* samples = system.has_samples() ? system.samples : nullptr;
+  const SampleCache* sample = system.sample_kernel;
+  const auto fluid_count = static_cast<std::ptrdiff_t>(w.fluid.size());
+  const auto blocks = static_cast<std::ptrdiff_t>(w.block_error.size());
   const bool warm = settings.warm_start_fraction > 0.0;
-#pragma omp parallel for schedule(static) if (count >= kThreadedLoopMinimum)
-  for (std::ptrdiff_t i = 0; i < count; ++i) {
-    const bool keep = warm && particles.type[i] == ParticleType::Fluid && increment(i) > 0.0;
-    stiffness[i] = keep ? settings.warm_start_fraction * stiffness[i] : 0.0;
-    s[i] = keep ? stiffness[i] / density[i] : 0.0;
-  }
-  if (warm) {
-    apply_pressure_velocity_change(particles, system, s, dt);
-    error = predict();
-  }
-
   SolverOutcome outcome;
-  outcome.initial_error = error;
-  while (outcome.iterations < settings.max_iterations &&
-         (outcome.iterations < settings.min_iterations || error > settings.tolerance)) {
-#pragma omp parallel for schedule(static) if (count >= kThreadedLoopMinimum)
-    for (std::ptrdiff_t i = 0; i < count; ++i) {
-      if (particles.type[i] != ParticleType::Fluid) {
-        s[i] = 0.0;
-        continue;
+
+  // correct: kappa_i += its pending increment, and the pressure correction
+  //   v_i <- v_i - dt [ sum_j m (s_i + s_j) grad W_ij + sum_b Psi_b s_i grad W_ib ]   ([BK17] eqs. (7)-(8))
+  //        = v_i - dt sum_j (s_i + s_j) c_ij        (a boundary neighbour has s = 0: p_b = p_i, once,
+  //                                                  [AIA12] and the authors' code)
+  // Reads s of the neighbours, writes only particle i. Two partial sums (even and odd
+  // neighbours) halve the chain of dependent additions.
+  // Same partition (blocks) as predict: a thread corrects the particles it predicts, so that
+  // with two threads each one's share of the neighbour lists stays in its own cache.
+  const auto correct = [&]() {
+#pragma omp for schedule(static)
+    for (std::ptrdiff_t block = 0; block < blocks; ++block) {
+      const std::ptrdiff_t last = std::min(fluid_count, (block + 1) * static_cast<std::ptrdiff_t>(kErrorBlock));
+      for (std::ptrdiff_t f = block * static_cast<std::ptrdiff_t>(kErrorBlock); f < last; ++f) {
+      const std::uint32_t i = fluid[f];
+      stiffness[i] += increment[i];
+      const double s_i = s[i];
+      Vec2 even = Vec2::Zero(), odd = Vec2::Zero();  // sum (s_i + s_j) c_ij: (1/rho) grad p, m/s^2
+      std::uint32_t k = offsets[i];
+      const std::uint32_t end = offsets[i + 1];
+      for (; k + 1 < end; k += 2) {
+        even += (s_i + s[neighbour[k]]) * coefficient[k];
+        odd += (s_i + s[neighbour[k + 1]]) * coefficient[k + 1];
       }
-      const double change = increment(i);  // m^2/s^2
-      stiffness[i] += change;
-      s[i] = change / density[i];
+      if (k < end) even += (s_i + s[neighbour[k]]) * coefficient[k];
+      Vec2 gradient = even + odd;
+      if (samples != nullptr) {
+        // The constraint force of the samples: -s_i G_ii (for a sample at rest Psi_w s_i grad W_iw,
+        // [AIA12]'s mirroring), and the reaction of every constraint k whose samples move with i
+        // (images of i seen by k): -s_k G_ki = +s_k Psi M^T grad W_kw.
+        for (std::uint32_t q = samples->begin(i); q < samples->end(i); ++q) gradient += s_i * sample->own[q];
+        for (std::uint32_t q = sample->by_source_offsets[i]; q < sample->by_source_offsets[i + 1]; ++q) {
+          const std::uint32_t kw = sample->by_source[q];
+          gradient -= s[sample->owner[kw]] * sample->reaction[kw];
+        }
+      }
+      velocity[i] -= dt * gradient;
+      }
     }
-    apply_pressure_velocity_change(particles, system, s, dt);
-    error = predict();
-    ++outcome.iterations;
+  };
+
+  // predict: D rho_i/Dt = sum_j c_ij . (v_i - v_j) = sum_j m (v_i - v_j) . grad W_ij + sum_b Psi_b v_i . grad W_ib
+  // ([BK17] eq. (9); v_b = 0; + the wall samples), the error of i and its next increment;
+  // returns the mean error (block sums in block order: the same on every thread and for every
+  // thread count). The x and y products are summed apart, in two partial sums as above.
+  const auto predict = [&]() {
+#pragma omp for schedule(static)
+    for (std::ptrdiff_t block = 0; block < blocks; ++block) {
+      const std::ptrdiff_t last = std::min(fluid_count, (block + 1) * static_cast<std::ptrdiff_t>(kErrorBlock));
+      double error_sum = 0.0;
+      for (std::ptrdiff_t f = block * static_cast<std::ptrdiff_t>(kErrorBlock); f < last; ++f) {
+        const std::uint32_t i = fluid[f];
+        const Vec2 vi = velocity[i];
+        Vec2 even = Vec2::Zero(), odd = Vec2::Zero();
+        std::uint32_t k = offsets[i];
+        const std::uint32_t end = offsets[i + 1];
+        for (; k + 1 < end; k += 2) {
+          even += (vi - velocity[neighbour[k]]).cwiseProduct(coefficient[k]);
+          odd += (vi - velocity[neighbour[k + 1]]).cwiseProduct(coefficient[k + 1]);
+        }
+        if (k < end) even += (vi - velocity[neighbour[k]]).cwiseProduct(coefficient[k]);
+        double rate = (even + odd).sum();  // kg/(m^3 s)
+        if (samples != nullptr) {
+          for (std::uint32_t q = samples->begin(i); q < samples->end(i); ++q) {
+            const Vec2 uw = sample_velocity(samples->samples[q], w.velocity);  // u_w = M v_s, now
+            rate += sample->mass[q] * (vi - uw).dot(sample->gradient[q]);
+          }
+        }
+        double relative = 0.0;
+        const double change = settle(i, rate, relative);
+        increment[i] = change;
+        s[i] = change / density[i];
+        error_sum += relative;
+      }
+      block_error[block] = error_sum;
+    }
+    double total = 0.0;
+    for (std::ptrdiff_t block = 0; block < blocks; ++block) total += block_error[block];
+    return fluid_count > 0 ? total / static_cast<double>(fluid_count) : 0.0;
+  };
+
+#pragma omp parallel if (fluid_count >= kThreadedLoopMinimum)
+  {
+    double error = predict();
+    // Warm start ([BK17]; the fraction and the reset are the authors' code's): apply the last
+    // step's total stiffness, times the fraction, to the particles that are compressed now;
+    // the others start from zero, so that a stiffness left over from a past compression
+    // cannot push apart particles that are no longer compressed (increments are >= 0: a
+    // stiffness can only grow within a step).
+#pragma omp for schedule(static)
+    for (std::ptrdiff_t f = 0; f < fluid_count; ++f) {
+      const std::uint32_t i = fluid[f];
+      const bool keep = warm && increment[i] > 0.0;
+      stiffness[i] = keep ? settings.warm_start_fraction * stiffness[i] : 0.0;
+      if (warm) {  // the warm start is this correction; the increments are predicted again after it
+        s[i] = keep ? stiffness[i] / density[i] : 0.0;
+        increment[i] = 0.0;
+      }
+    }
+    if (warm) {
+      correct();
+      error = predict();
+    }
+    const double initial_error = error;
+    long long iterations = 0;  // every thread runs the same loop on the same error
+    while (iterations < settings.max_iterations && (iterations < settings.min_iterations || error > settings.tolerance)) {
+      correct();
+      error = predict();
+      ++iterations;
+    }
+#pragma omp single
+    {
+      outcome.iterations = iterations;
+      outcome.initial_error = initial_error;
+      outcome.error = error;
+      outcome.converged = error <= settings.tolerance;
+      for (std::ptrdiff_t f = 0; f < fluid_count; ++f) particles.velocity[fluid[f]] = velocity[fluid[f]];
+    }
   }
-  outcome.error = error;
-  outcome.converged = error <= settings.tolerance;
   return outcome;
 }
 
@@ -80,50 +197,31 @@ SolverOutcome correct_divergence_error(ParticleSet& particles, const SphSystem& 
                                        double dt, const SolverSettings& settings, std::uint32_t min_neighbours,
                                        std::vector<double>& stiffness, SolverWorkspace& workspace) {
   count_active_neighbours(particles, system, workspace.neighbour_counts);
-  auto& rate = workspace.source;  // max(D rho_i/Dt, 0), kg/(m^3 s)
-  auto& relative = workspace.relative_error;
-  relative.assign(particles.size(), 0.0);
-  const auto count = static_cast<std::ptrdiff_t>(particles.size());
+  const std::vector<double>& counts = workspace.neighbour_counts;
   const double rho0 = system.rest_density;
-  const auto predict = [&]() {
-    compute_density_change_rate(particles, system, rate);  // [BK17] eq. (9)
-#pragma omp parallel for schedule(static) if (count >= kThreadedLoopMinimum)
-    for (std::ptrdiff_t i = 0; i < count; ++i) {
-      // Only compression is corrected; a particle short of neighbours is left alone.
-      if (workspace.neighbour_counts[i] < min_neighbours) rate[i] = 0.0;
-      rate[i] = std::max(rate[i], 0.0);
-      relative[i] = dt * rate[i] / rho0;
-    }
-    return fluid_mean(particles, relative);
+  const auto settle = [&](std::uint32_t i, double change_rate, double& relative) {
+    // Only compression is corrected (max(D rho_i/Dt, 0), kg/(m^3 s)); a particle short of
+    // neighbours is left alone.
+    const double r = counts[i] < min_neighbours ? 0.0 : std::max(change_rate, 0.0);
+    relative = dt * r / rho0;
+    return r / dt * alpha[i];  // [BK17] eq. (11)
   };
-  const auto increment = [&](std::ptrdiff_t i) { return rate[i] / dt * alpha[i]; };  // [BK17] eq. (11)
-  return iterate(particles, system, density, dt, settings, stiffness, workspace, predict, increment);
+  return iterate(particles, system, density, dt, settings, stiffness, workspace, settle);
 }
 
 SolverOutcome correct_density_error(ParticleSet& particles, const SphSystem& system,
                                     const std::vector<double>& density, const std::vector<double>& alpha, double dt,
                                     const SolverSettings& settings, std::vector<double>& stiffness,
                                     SolverWorkspace& workspace) {
-  auto& predicted = workspace.source;  // max(rho*_i, rho0), kg/m^3
-  auto& relative = workspace.relative_error;
-  relative.assign(particles.size(), 0.0);
-  const auto count = static_cast<std::ptrdiff_t>(particles.size());
   const double rho0 = system.rest_density;
-  const auto predict = [&]() {
-    compute_density_change_rate(particles, system, predicted);
-#pragma omp parallel for schedule(static) if (count >= kThreadedLoopMinimum)
-    for (std::ptrdiff_t i = 0; i < count; ++i) {
-      // rho*_i = rho_i + dt D rho_i/Dt ([BK17] §3.3), clamped: only compression is corrected.
-      predicted[i] = particles.type[i] == ParticleType::Fluid ? std::max(density[i] + dt * predicted[i], rho0) : rho0;
-      relative[i] = (predicted[i] - rho0) / rho0;
-    }
-    return fluid_mean(particles, relative);
-  };
   const double inverse_dt2 = 1.0 / (dt * dt);
-  const auto increment = [&](std::ptrdiff_t i) {
-    return (predicted[i] - rho0) * inverse_dt2 * alpha[i];  // [BK17] eq. (12)
+  const auto settle = [&](std::uint32_t i, double change_rate, double& relative) {
+    // rho*_i = rho_i + dt D rho_i/Dt ([BK17] §3.3), clamped: only compression is corrected.
+    const double predicted = std::max(density[i] + dt * change_rate, rho0);  // kg/m^3
+    relative = (predicted - rho0) / rho0;
+    return (predicted - rho0) * inverse_dt2 * alpha[i];  // [BK17] eq. (12)
   };
-  return iterate(particles, system, density, dt, settings, stiffness, workspace, predict, increment);
+  return iterate(particles, system, density, dt, settings, stiffness, workspace, settle);
 }
 
 }  // namespace mps_lab::dfsph

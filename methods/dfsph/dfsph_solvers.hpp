@@ -2,11 +2,10 @@
 // The two implicit solvers of DFSPH [BK17], matrix-free over the cached neighbour list.
 // Both are the paper's Jacobi-like iteration: every particle computes its stiffness increment
 // from the current predicted error and its factor alpha_i, then every fluid velocity is
-// corrected with the symmetric pressure force of those increments
-// (apply_pressure_velocity_change), then the error is predicted again from the new
-// velocities. Only compression is corrected (the predicted density is clamped at rho0 and
-// the density change rate at 0), so a free surface needs no special treatment and
-// stiffnesses never become negative.
+// corrected with the symmetric pressure force of those increments ([BK17] eqs. (7)-(8)), then
+// the error is predicted again from the new velocities. Only compression is corrected (the
+// predicted density is clamped at rho0 and the density change rate at 0), so a free surface
+// needs no special treatment and stiffnesses never become negative.
 //
 // Stopping rule (both solvers): iterate while (iterations < min_iterations) or (error >
 // tolerance and iterations < max_iterations). The error is measured after each velocity
@@ -14,6 +13,16 @@
 //   density solver:    error = mean_i max(rho*_i - rho0, 0) / rho0,     rho*_i = rho_i + dt D rho_i/Dt
 //   divergence solver: error = dt mean_i max(D rho_i/Dt, 0) / rho0
 // means over the active fluid particles (a particle with no compression counts as 0).
+//
+// How an iteration runs (docs/methods/dfsph.md, "Performance"): two passes over the fluid
+// particles in one OpenMP parallel region, each writing only its own particle:
+//   correct: kappa_i += pending increment; v_i += dt (pressure acceleration of the increments);
+//   predict: D rho_i/Dt from the new velocities, the error of i, and i's next increment
+//            (kept pending: applied only if the stopping rule asks for another iteration).
+// The mean error is a sum over fixed blocks of fluid particles whose partial sums are added in
+// block order, by every thread alike, so the result and the iteration count do not depend on
+// the thread count. Every sum over neighbours runs in neighbour-list order over the cached
+// kernel gradients, in the arithmetic of compute_density_change_rate.
 #include <cstdint>
 #include <vector>
 
@@ -35,12 +44,16 @@ struct SolverOutcome {
   bool converged = true;       // error <= tolerance
 };
 
-// Scratch storage reused from step to step.
+// Scratch storage reused from step to step (resized, never shrunk: no allocation in the time
+// loop once the particle count is reached).
 struct SolverWorkspace {
-  std::vector<double> source;                  // rho*_i (kg/m^3) or D rho_i/Dt (kg/(m^3 s))
-  std::vector<double> stiffness_over_density;  // s_i = kappa_i / rho_i of one correction, m^5/(kg s^2)
-  std::vector<double> relative_error;          // per particle, for the mean
-  std::vector<double> neighbour_counts;      // fluid + boundary neighbours (+ sample volumes)
+  std::vector<std::uint32_t> fluid;            // indices of the fluid particles, ascending
+  std::vector<Vec2> velocity;                  // the solver's velocities: fluid v_i, 0 elsewhere (v_b = 0), m/s
+  std::vector<double> increment;               // kappa increment of the next correction, m^2/s^2
+  std::vector<double> stiffness_over_density;  // s_i = increment / rho_i of the next correction, m^5/(kg s^2)
+  std::vector<double> block_error;             // partial sums of the relative error, one per block
+  std::vector<double> neighbour_counts;        // fluid + boundary neighbours (+ sample volumes)
+  std::vector<Vec2> weighted_gradient;         // c_ij, when the kernel cache has none (kg/m^4)
 };
 
 // Algorithm 2 of [BK17] (§3.2): corrects the velocities so that D rho_i/Dt = 0, with
