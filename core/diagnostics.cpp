@@ -56,6 +56,21 @@ double relative_density(const ParticleSet& particles, std::size_t i, const Neigh
   return sum / lattice_sum;
 }
 
+// relative_density of every fluid particle (0 for the others), in parallel: the sums that
+// follow add them in index order, so the result does not depend on the thread count.
+std::vector<double> relative_densities(const ParticleSet& particles, const NeighbourList& neighbours,
+                                       const SphKernel& kernel, double lattice_sum) {
+  std::vector<double> ratios(particles.size(), 0.0);
+  const auto count = static_cast<std::ptrdiff_t>(particles.size());
+#pragma omp parallel for schedule(static)
+  for (std::ptrdiff_t i = 0; i < count; ++i) {
+    if (particles.type[i] == ParticleType::Fluid) {
+      ratios[i] = relative_density(particles, static_cast<std::size_t>(i), neighbours, kernel, lattice_sum);
+    }
+  }
+  return ratios;
+}
+
 // Particles with nearly full support count in the density error (diagnostics.hpp).
 constexpr double kFullSupportRatio = 0.9;
 
@@ -69,11 +84,12 @@ double common_density_error(const ParticleSet& particles, const Scene& scene) {
   const SphKernel kernel = density_kernel(scene);
   const NeighbourList neighbours = find_neighbours(particles.position, particles.type, kernel.support());
   const double lattice_sum = lattice_kernel_sum(kernel, scene.particle_spacing);
+  const std::vector<double> ratios = relative_densities(particles, neighbours, kernel, lattice_sum);
   double deviation = 0.0;
   std::size_t full_support = 0;
   for (std::size_t i = 0; i < particles.size(); ++i) {
     if (particles.type[i] != ParticleType::Fluid) continue;
-    const double ratio = relative_density(particles, i, neighbours, kernel, lattice_sum);
+    const double ratio = ratios[i];
     if (ratio >= kFullSupportRatio) {
       deviation += std::fabs(ratio - 1.0);
       ++full_support;
@@ -101,6 +117,7 @@ FlowMeasures measure_flow(const ParticleSet& particles, const Scene& scene) {
   label_bodies(particles, neighbours, link, label, largest);
 
   const double lattice_sum = lattice_kernel_sum(kernel, l0);  // reference density / m
+  const std::vector<double> ratios = relative_densities(particles, neighbours, kernel, lattice_sum);
 
   double bulk_front = -std::numeric_limits<double>::infinity();
   double any_front = bulk_front;
@@ -122,7 +139,7 @@ FlowMeasures measure_flow(const ParticleSet& particles, const Scene& scene) {
       bulk_front = std::max(bulk_front, x.x());
       if (x.x() < probe_limit) top = std::max(top, x.y());
     }
-    const double ratio = relative_density(particles, i, neighbours, kernel, lattice_sum);
+    const double ratio = ratios[i];
     if (ratio >= kFullSupportRatio) {
       density_deviation += std::fabs(ratio - 1.0);
       ++full_support;
