@@ -95,7 +95,8 @@ std::vector<ParameterSpec> output_keys() {
       number_parameter("series_interval", 0.0, "s",
                        "also write a series row at the first step at or after every multiple of this time (0: off)")
           .at_least(0.0),
-      string_list_parameter("formats", {"csv", "vtk"}, "frame formats").one_of({"csv", "vtk"}),
+      string_list_parameter("formats", {"csv", "vtk"}, "frame formats (vtu: VTK XML binary, for large runs)")
+          .one_of({"csv", "vtk", "vtu"}),
       integer_parameter("checkpoint_every_steps", 0,
                         "write the full state to checkpoint.bin every N steps, for `mps_lab resume` (0: off)")
           .at_least(0),
@@ -434,10 +435,11 @@ Scene parse_scene(nlohmann::json document, const std::string& source, const Meth
   scene.output.frame_interval = output.number("frame_interval");
   scene.output.series_interval = output.number("series_interval");
   scene.output.checkpoint_every_steps = output.integer("checkpoint_every_steps");
-  scene.output.csv = scene.output.vtk = false;
+  scene.output.csv = scene.output.vtk = scene.output.vtu = false;
   for (const auto& format : output.string_list("formats")) {
     if (format == "csv") scene.output.csv = true;
     if (format == "vtk") scene.output.vtk = true;
+    if (format == "vtu") scene.output.vtu = true;
   }
 
   const auto& diagnostics_block = block_or_null(document, "diagnostics");

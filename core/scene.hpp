@@ -57,8 +57,9 @@ struct OutputControl {
   double frame_interval = 0.0;         // s; > 0: also a frame at the first step at or after each multiple
   double series_interval = 0.0;        // s; > 0: also a series row at the first step at or after each multiple
   long long checkpoint_every_steps = 0;  // > 0: checkpoint.bin every N steps (core/checkpoint.hpp)
-  bool csv = true;
-  bool vtk = true;
+  bool csv = true;   // output_XXXXXX.csv (spec §10.1)
+  bool vtk = true;   // output_XXXXXX.vtk, VTK legacy ASCII (spec §10.2), and output.vtk.series
+  bool vtu = false;  // output_XXXXXX.vtu, VTK XML appended binary, and output.pvd
 };
 
 // A point where series.csv records the fluid pressure (column "pressure_<name>").

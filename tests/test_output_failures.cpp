@@ -12,6 +12,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include "core/driver.hpp"
 #include "core/error.hpp"
 #include "core/output.hpp"
 #include "support.hpp"
@@ -108,7 +109,7 @@ TEST_CASE("an unwritable folder is an OutputError (not checked as root, which ig
   CHECK_THAT(output_error_of([&] { write_file_atomically(locked / "run.json", "{}\n"); }),
              Catch::StartsWith((locked / "run.json").string() + ": cannot write (Permission denied)"));
   CHECK(files_in(locked).empty());
-  RunOutput output(locked / "run", true, true, {"step"});
+  RunOutput output(locked / "run", FrameFormats{}, {"step"});
   CHECK_THAT(output_error_of([&] { output.prepare(); }),
              Catch::Contains("cannot create the output folder (Permission denied)"));
 }
@@ -133,4 +134,23 @@ TEST_CASE("output errors through the binary: exit code 3 and one line", "[cli][o
   const auto result = run_mps_lab("run " + scene + " --end-time 0.01 --out /dev/full/run", "dev_full");
   CHECK(result.exit_code == 3);
   CHECK_THAT(result.stderr_text, Catch::StartsWith("mps_lab: error: /dev/full/run: cannot create the output folder"));
+}
+
+TEST_CASE("a frame that fails on the background writer stops the run with an OutputError naming it", "[output]") {
+  const auto dir = fresh_directory("output_background_failure");
+  RunOptions options;
+  options.scene_path = scene_path("dambreak.json");
+  options.output_directory = dir.string();
+  options.overrides = {"time.end_time=0.01"};
+  std::string message;
+  {
+    // 12 kB: run.json at the start (about 6 kB), series.csv and the first CSV frame fit, the
+    // first VTK frame (18 kB) does not; it fails on the writer thread, not in write_frame.
+    const FileSizeLimit limit(12 * 1024);
+    message = output_error_of([&] { run_simulation(options, registries().methods, registries().walls); });
+  }
+  CHECK(message == (dir / "output_000000.vtk").string() + ": write failed (File too large)");
+  CHECK_FALSE(std::filesystem::exists(dir / "output_000000.vtk"));
+  for (const auto& name : files_in(dir)) CHECK(name.find(".tmp.") == std::string::npos);
+  CHECK(nlohmann::json::parse(read_text(dir / "run.json"))["status"] == "running");  // never finalised
 }
