@@ -9,7 +9,7 @@ where the time goes, O(N) scaling to a million particles, threads and memory.
 
 Parts (--only picks some; each writes into --out and is reused by the later ones):
   reference    whole runs as the reference figures were taken (`mps_lab run`, 2 threads,
-               the scenes' own output): mps and isph on the dam break at l0 = 0.025, 0.0125
+               the scenes' own output, splashes allowed up to 50 %): mps and isph on the dam break at l0 = 0.025, 0.0125
                (time step 2.5e-4 s) to 2 s and at 0.005 (scenes/dambreak_fine.json) to 1 s;
                dfsph at l0 = 0.005 with density tolerance 0.1 % and 0.01 %, and at 0.0025 with
                0.1 %, to 1 s. -> reference.csv (one row per run: fluid particle-steps per second,
@@ -52,6 +52,8 @@ REFERENCE = {
     ("SPlisHSPlasH DFSPH", 0.005, 1e-4): 0.5e6,
 }
 
+DFSPH_MAX_STEP_PER_SPACING = 1.0  # s/m
+
 # Spacings l0 = 0.05 / k (the tank and the column are whole multiples): about 1e3 ... 1e6 fluid.
 SCALING_K = [5, 9, 16, 28, 50, 90, 142]
 
@@ -88,7 +90,8 @@ def reference_cases(quick: bool) -> list[dict]:
     for spacing, tolerance in [(0.005, 1e-3), (0.005, 1e-4), (0.0025, 1e-3)]:
         sets = [f"methods.dfsph.density_tolerance={tolerance}"]
         if spacing != 0.005:
-            sets += [f"particle_spacing={spacing}", "time.time_step=5e-5"]
+            sets += [f"particle_spacing={spacing}", "time.time_step=5e-5",
+                     f"methods.dfsph.max_time_step={DFSPH_MAX_STEP_PER_SPACING * spacing:g}"]
         cases.append(dict(method="dfsph", scene="scenes/dambreak_fine.json", spacing=spacing, tolerance=tolerance,
                           sets=sets, end=end_fine))
     if quick:
@@ -101,12 +104,14 @@ def run_reference(binary: str, out: Path, quick: bool) -> None:
     for case in reference_cases(quick):
         name = f"{case['method']}_{case['spacing']}" + (f"_tol{case['tolerance']}" if case["tolerance"] else "")
         folder = out / "reference" / name
+        # Splashes over the open top are not a failure of a speed run (MPS at l0 = 0.0125 sends
+        # 5.1 % of its fluid over the top by 0.68 s, past the monitor's default 5 %).
         command = [binary, "run", f"--method={case['method']}", str(ROOT / case["scene"]), "-q", "--out", str(folder),
-                   "--end-time", str(case["end"])]
+                   "--end-time", str(case["end"]), "--set", "stability.max_escaped_fraction=0.5"]
         for item in case["sets"]:
             command += ["--set", item]
         print("performance.py:", " ".join(command[1:]), flush=True)
-        subprocess.run(command, check=True, env=environment(2))
+        subprocess.run(command, check=False, env=environment(2))  # a run that stops early is reported
         run = json.loads((folder / "run.json").read_text())
         profile = run["profile"]
         row = dict(method=case["method"], particle_spacing=case["spacing"],
@@ -128,7 +133,10 @@ def run_reference(binary: str, out: Path, quick: bool) -> None:
 
 
 def bench(binary: str, arguments: list[str], json_path: Path) -> dict:
-    command = [binary, "bench", str(ROOT / "scenes" / "dambreak.json"), "-q", "--json", str(json_path)] + arguments
+    # DFSPH's largest CFL step scales with l0 (1.0 s/m: SPlisHSPlasH's 5e-3 s at l0 = 0.005); a
+    # fixed 5e-3 s makes the first steps from rest diverge below l0 = 0.0025 (docs/performance.md).
+    command = [binary, "bench", str(ROOT / "scenes" / "dambreak.json"), "-q", "--json", str(json_path),
+               "--per-spacing", f"methods.dfsph.max_time_step={DFSPH_MAX_STEP_PER_SPACING}"] + arguments
     print("performance.py:", " ".join(command[1:]), flush=True)
     result = subprocess.run(command, check=True, env=environment(), capture_output=True, text=True)
     print(result.stdout, flush=True)

@@ -117,6 +117,7 @@ int bench_command(const BenchCommand& command, char** argv) {
   options.spacings = command.spacings;
   options.threads = command.threads;
   options.overrides = command.set;
+  options.per_spacing = command.per_spacing;
   options.time_step_per_spacing = command.time_step_per_spacing;
   options.start_time = command.start_time;
   options.warmup_steps = command.warmup_steps;

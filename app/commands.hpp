@@ -43,6 +43,7 @@ struct BenchCommand {
   std::vector<double> spacings;           // m
   std::vector<int> threads;
   std::vector<std::string> set;
+  std::vector<std::string> per_spacing;   // "key=factor": key = factor * l0
   double time_step_per_spacing = 0.02;    // s/m
   double start_time = 0.0;                // s
   long long warmup_steps = 5;

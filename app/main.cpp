@@ -82,6 +82,10 @@ int main(int argc, char** argv) {
   bench_app->add_option("--steps", bench.steps, "measured steps per case (default 20)")->check(CLI::PositiveNumber);
   bench_app->add_option("--set,-s", bench.set, "override a scene key (repeatable)")
       ->multi_option_policy(CLI::MultiOptionPolicy::TakeAll);
+  bench_app->add_option("--per-spacing", bench.per_spacing,
+                        "KEY=FACTOR: set a scene key to FACTOR x l0 at every spacing, e.g. "
+                        "methods.dfsph.max_time_step=1.0 (repeatable)")
+      ->multi_option_policy(CLI::MultiOptionPolicy::TakeAll);
   bench_app->add_flag("!--no-kernels", bench.kernels, "skip the kernel micro-benchmarks");
   bench_app->add_option("--json", bench.json, "also write every measurement to this JSON file");
   bench_app->add_flag("--quiet,-q", bench.quiet, "no line per case on stderr");

@@ -189,6 +189,17 @@ nlohmann::json run_benchmarks(const BenchmarkOptions& options, const MethodRegis
       if (options.time_step_per_spacing > 0.0) {
         overrides.push_back("time.time_step=" + format_double(options.time_step_per_spacing * spacing));
       }
+      for (const auto& item : options.per_spacing) {
+        const auto equals = item.find('=');
+        double factor = 0.0;
+        try {
+          factor = equals == std::string::npos ? 0.0 : std::stod(item.substr(equals + 1));
+        } catch (const std::exception&) {
+          factor = 0.0;
+        }
+        if (!(factor > 0.0)) throw_input_error("--per-spacing", item, "expected KEY=FACTOR with a factor > 0 (s/m, ...)");
+        overrides.push_back(item.substr(0, equals) + "=" + format_double(factor * spacing));
+      }
     }
     const Scene scene = load_scene(options.scene_path, overrides, methods, walls);
     for (int threads : thread_counts) {
@@ -209,6 +220,7 @@ nlohmann::json run_benchmarks(const BenchmarkOptions& options, const MethodRegis
           {"steps", options.steps},
           {"start_time", options.start_time},
           {"time_step_per_spacing", options.time_step_per_spacing},
+          {"per_spacing", options.per_spacing},
           {"peak_resident_bytes", peak_resident_memory_bytes()},
           {"cases", cases}};
 }

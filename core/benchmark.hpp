@@ -31,6 +31,9 @@ struct BenchmarkOptions {
   // Default 0.02 s/m: 5e-4 s at l0 = 0.025 (the spec's), 1e-4 s at 0.005 (dambreak_fine).
   double time_step_per_spacing = 0.02;
   std::vector<std::string> overrides;     // further "dotted.key=value"
+  // "dotted.key=factor": the key set to factor * l0 at every spacing (e.g. a method's largest
+  // time step, methods.dfsph.max_time_step=1.0 s/m: 5e-3 s at l0 = 0.005).
+  std::vector<std::string> per_spacing;
   double start_time = 0.0;                // s, run (unmeasured) to this time first
   long long warmup_steps = 5;
   long long steps = 20;
