@@ -213,7 +213,7 @@ def markdown(out: Path) -> str:
             lines.append(f"| {row['method']} | {spacing:g} | {'' if tolerance is None else f'{100 * tolerance:g} %'} | "
                          f"{row['fluid_particles']} | {row['steps']} | {float(row['wall_seconds']):.1f} | "
                          f"{speed / 1e6:.3f} M | {'' if reference is None else f'{reference / 1e6:.2f} M ({code})'} | "
-                         f"{'' if reference is None else f'{speed / reference:.2g}x'} | {float(row['mean_iterations']):.1f} |")
+                         f"{'' if reference is None else f'{speed / reference:.2f}x'} | {float(row['mean_iterations']):.1f} |")
         phases = sorted({key[3:] for row in rows for key in row if key.startswith("ms_") and row[key]})
         lines += ["", "Milliseconds per step by phase (run.json profile of the same runs):", "",
                   "| method | l0 [m] | density tol. | " + " | ".join(phases) + " |",

@@ -33,7 +33,7 @@ class PerformanceStudyTest(unittest.TestCase):
                 self.assertGreater(float(row["ms_pressure_solve"]), 0.0)
             table = open(os.path.join(out, "performance.md")).read()
             speed = float(rows[0]["particle_steps_per_second"])
-            self.assertIn(f"{speed / 0.23e6:.2g}x", table)
+            self.assertIn(f"{speed / 0.23e6:.2f}x", table)
             self.assertIn("## Scaling", table)
             self.assertIn("Speed-up from 1 to 2 threads", table)
             for name in ["resolutions.json", "scaling.json", "performance_scaling.png", "performance_phases.png"]:
