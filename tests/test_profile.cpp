@@ -50,8 +50,9 @@ TEST_CASE("phase timers: ids by name, accumulation, reset and the profile's othe
 // Each method times its steps: the named phases appear with one call per step where the
 // method does the phase once per step, and together with the monitor's "diagnostics" they
 // cover most of the stepping time. What no phase covers is per-step bookkeeping (the time-step
-// choice, series statistics): measured below 5 % at l0 = 0.025; 25 % leaves room for a busy
-// machine, where a scope's clock reads cost relatively more.
+// choice, series statistics): measured 0.4-0.5 % of the step at l0 = 0.025 for every method
+// (mps_lab bench, docs/data/performance.md: "other" 0.9-2.1 us of 208-577 us per step); 25 %
+// leaves room for a busy machine, where a scope's clock reads cost relatively more.
 TEST_CASE("every method times its phases, and they cover the stepping time", "[profile]") {
   for (const auto* info : registries().methods.all()) {
     DYNAMIC_SECTION(info->name) {
