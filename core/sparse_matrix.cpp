@@ -2,6 +2,8 @@
 
 #include <algorithm>
 
+#include "core/parallel.hpp"
+
 namespace mps_lab {
 
 void multiply(const CsrMatrix& matrix, const double* x, double* y) {
@@ -42,37 +44,9 @@ void CsrAssembler::finish(CsrMatrix& matrix, bool diagonal_first) {
   }
 }
 
-namespace {
-constexpr std::size_t kDotBlock = 4096;  // entries per partial sum (fixed: thread-count independent)
-}
-
+// The blocked sum of core/parallel.hpp (fixed blocks of kDeterministicBlock entries).
 double deterministic_dot(const double* a, const double* b, std::size_t n) {
-  const std::size_t blocks = (n + kDotBlock - 1) / kDotBlock;
-  if (blocks <= 1) {
-    double sum = 0.0;
-    for (std::size_t i = 0; i < n; ++i) sum += a[i] * b[i];
-    return sum;
-  }
-  // Small stack buffer for the common sizes; the heap only beyond 4096 blocks (16.7 M entries).
-  double stack_partial[4096];
-  std::vector<double> heap_partial;
-  double* partial = stack_partial;
-  if (blocks > 4096) {
-    heap_partial.resize(blocks);
-    partial = heap_partial.data();
-  }
-  const auto block_count = static_cast<std::ptrdiff_t>(blocks);
-#pragma omp parallel for schedule(static)
-  for (std::ptrdiff_t block = 0; block < block_count; ++block) {
-    const std::size_t begin = static_cast<std::size_t>(block) * kDotBlock;
-    const std::size_t end = std::min(n, begin + kDotBlock);
-    double sum = 0.0;
-    for (std::size_t i = begin; i < end; ++i) sum += a[i] * b[i];
-    partial[block] = sum;
-  }
-  double total = 0.0;
-  for (std::size_t block = 0; block < blocks; ++block) total += partial[block];
-  return total;
+  return deterministic_sum(n, [a, b](std::size_t i) { return a[i] * b[i]; });
 }
 
 }  // namespace mps_lab
