@@ -27,11 +27,14 @@ struct DambreakOutcome {
   double final_wall_distance = 0.0;  // m: closest fluid particle to a wall particle line, last frame
 };
 
-inline DambreakOutcome run_spec_dambreak(const std::string& method, double min_wall_distance = 0.5) {
-  const auto out = fresh_directory(method + "_dambreak");
+// `overrides` ("dotted.key=value") vary the method's own parameters; `tag` names the output folder.
+inline DambreakOutcome run_spec_dambreak(const std::string& method, double min_wall_distance = 0.5,
+                                         const std::vector<std::string>& overrides = {}, const std::string& tag = "") {
+  const auto out = fresh_directory(method + "_dambreak" + tag);
   RunOptions options;
   options.scene_path = scene_path("dambreak.json");
   options.method = method;
+  options.overrides = overrides;
   options.output_directory = out.string();
   DambreakOutcome outcome;
   outcome.result = run_simulation(options, registries().methods, registries().walls);

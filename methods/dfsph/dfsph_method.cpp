@@ -31,6 +31,7 @@
 #include "core/output.hpp"
 #include "core/profile.hpp"
 #include "core/scene.hpp"
+#include "core/time_step.hpp"
 #include "methods/dfsph/dfsph_operators.hpp"
 #include "methods/dfsph/dfsph_solvers.hpp"
 
@@ -102,10 +103,7 @@ class DfsphMethod final : public Method {
     const double l0 = scene_.particle_spacing;
     rest_density_ = scene_.physics.density;
     particle_mass_ = rest_density_ * l0 * l0;  // 2-D: kg per metre of depth
-    cfl_rule_ = p.string("time_step_rule") == "cfl";
-    cfl_number_ = p.number("cfl_number");
-    min_time_step_ = p.number("min_time_step");
-    max_time_step_ = p.number("max_time_step");
+    time_step_settings_ = time_step_settings(p, scene_.time.time_step, scene_.source);
     const double warm_start_fraction = p.number("warm_start_fraction");
     density_settings_ = solver_settings(p, "density", warm_start_fraction);
     divergence_settings_ = solver_settings(p, "divergence", warm_start_fraction);
@@ -126,11 +124,6 @@ class DfsphMethod final : public Method {
     }
 
     const std::string block = "methods.dfsph.";
-    if (min_time_step_ > max_time_step_) {
-      throw_input_error(scene_.source, block + "min_time_step",
-                        "got " + std::to_string(min_time_step_) + ", expected at most max_time_step (" +
-                            std::to_string(max_time_step_) + ")");
-    }
     for (const auto* prefix : {"density", "divergence"}) {
       const SolverSettings& s = std::string(prefix) == "density" ? density_settings_ : divergence_settings_;
       if (s.min_iterations > s.max_iterations) {
@@ -159,7 +152,7 @@ class DfsphMethod final : public Method {
     for (std::size_t i = 0; i < n; ++i) {
       if (particles.type[i] == ParticleType::Fluid) acceleration_[i] = scene_.physics.gravity;
     }
-    last_time_step_ = scene_.time.time_step;
+    clock_.start(scene_.time.time_step);
     compute_densities(particles, system(), particles.field("density"));  // for the frame at t = 0
   }
 
@@ -169,21 +162,14 @@ class DfsphMethod final : public Method {
   // [min_time_step, max_time_step]; the last one or two steps are evened out so that the
   // run ends on time.end_time.
   double time_step(const ParticleSet& particles) const override {
-    if (!cfl_rule_) return scene_.time.time_step;
+    if (!time_step_settings_.cfl) return scene_.time.time_step;
+    const double last_time_step = clock_.last();
     double max_speed2 = 0.0;
     for (std::size_t i = 0; i < particles.size(); ++i) {
       if (particles.type[i] != ParticleType::Fluid) continue;
-      max_speed2 = std::max(max_speed2, (particles.velocity[i] + last_time_step_ * acceleration_[i]).squaredNorm());
+      max_speed2 = std::max(max_speed2, (particles.velocity[i] + last_time_step * acceleration_[i]).squaredNorm());
     }
-    const double max_speed = std::sqrt(max_speed2);
-    double dt = max_speed > 0.0 ? cfl_number_ * scene_.particle_spacing / max_speed : max_time_step_;
-    dt = std::clamp(dt, min_time_step_, max_time_step_);
-    const double remaining = scene_.time.end_time - elapsed_;
-    if (remaining > 1e-6 * dt) {
-      if (remaining <= dt) return remaining;
-      if (remaining < 2.0 * dt) return 0.5 * remaining;
-    }
-    return dt;
+    return clock_.next(time_step_settings_, std::sqrt(max_speed2), scene_.particle_spacing, scene_.time.end_time);
   }
 
   StepReport step(ParticleSet& particles, double dt) override {
@@ -285,7 +271,7 @@ class DfsphMethod final : public Method {
       ghosts_ += mark_escaped_as_ghosts(particles, scene_);
     }
 
-    advance_clock(dt);
+    clock_.advance(dt);
     StepReport report;
     report.speed_limited_particles = context.speed_limited;
     report.solver_iterations = pressure.iterations;
@@ -316,10 +302,7 @@ class DfsphMethod final : public Method {
                               {"lattice_neighbours", full_neighbour_count_},
                               {"divergence_min_neighbours", divergence_min_neighbours_},
                               {"boundary_model", walls_.boundary_name()},
-                              {"time_step", {{"rule", cfl_rule_ ? "cfl" : "fixed"},
-                                             {"min", steps_ > 0 ? dt_min_ : 0.0},
-                                             {"max", dt_max_},
-                                             {"mean", steps_ > 0 ? elapsed_ / static_cast<double>(steps_) : 0.0}}},
+                              {"time_step", clock_.summary(time_step_settings_)},
                               {"density_solver", density_totals_.to_json()},
                               {"divergence_solver", divergence_totals_.to_json()},
                               {"wall_treatments", walls_.names()},
@@ -346,12 +329,7 @@ class DfsphMethod final : public Method {
     out.write_doubles(density_stiffness_);
     out.write_doubles(divergence_stiffness_);
     out.write_vec2s(acceleration_);
-    out.write_double(elapsed_);
-    out.write_double(clock_compensation_);
-    out.write_double(last_time_step_);
-    out.write_double(dt_min_);
-    out.write_double(dt_max_);
-    out.write_int(steps_);
+    clock_.save(out);
     density_totals_.save(out);
     divergence_totals_.save(out);
     out.write_size(ghosts_);
@@ -363,12 +341,7 @@ class DfsphMethod final : public Method {
     density_stiffness_ = in.read_doubles();
     divergence_stiffness_ = in.read_doubles();
     acceleration_ = in.read_vec2s();
-    elapsed_ = in.read_double();
-    clock_compensation_ = in.read_double();
-    last_time_step_ = in.read_double();
-    dt_min_ = in.read_double();
-    dt_max_ = in.read_double();
-    steps_ = in.read_int();
+    clock_.restore(in);
     density_totals_.restore(in);
     divergence_totals_.restore(in);
     ghosts_ = in.read_size();
@@ -426,17 +399,6 @@ class DfsphMethod final : public Method {
            format_double(settings.tolerance) + " after " + std::to_string(outcome.iterations) + " iterations; ";
   }
 
-  void advance_clock(double dt) {  // Kahan summation, as the driver's clock
-    const double increment = dt - clock_compensation_;
-    const double sum = elapsed_ + increment;
-    clock_compensation_ = (sum - elapsed_) - increment;
-    elapsed_ = sum;
-    last_time_step_ = dt;
-    dt_min_ = std::min(dt_min_, dt);
-    dt_max_ = std::max(dt_max_, dt);
-    ++steps_;
-  }
-
   const Scene& scene_;
   WallTreatmentSet walls_;
   PhaseTimers* timers_;  // core/profile.hpp; null outside a run
@@ -444,9 +406,7 @@ class DfsphMethod final : public Method {
   SphKernel kernel_;
   double rest_density_ = 1000.0;   // kg/m^3
   double particle_mass_ = 0.0;     // kg/m
-  bool cfl_rule_ = true;
-  double cfl_number_ = 0.4;
-  double min_time_step_ = 0.0, max_time_step_ = 0.0;  // s
+  TimeStepSettings time_step_settings_;  // core/time_step.hpp
   SolverSettings density_settings_, divergence_settings_;
   bool divergence_enabled_ = true;
   std::uint32_t full_neighbour_count_ = 0;
@@ -466,10 +426,7 @@ class DfsphMethod final : public Method {
   std::vector<Vec2> acceleration_;            // non-pressure acceleration of the last step, m/s^2
   SolverWorkspace workspace_;
 
-  double elapsed_ = 0.0, clock_compensation_ = 0.0;  // s, simulated so far
-  double last_time_step_ = 0.0;                      // s
-  double dt_min_ = std::numeric_limits<double>::infinity(), dt_max_ = 0.0;
-  long long steps_ = 0;
+  TimeStepClock clock_;  // simulated time, the last step (the CFL estimate's dt), min/max/mean
   SolverTotals density_totals_, divergence_totals_;
   std::size_t ghosts_ = 0;
 };
@@ -490,11 +447,6 @@ void mps_lab_register_method_dfsph(mps_lab::MethodRegistry& registry) {
                        "kernel support radius (where W = 0): BK17/SPlisHSPlasH 4 r = 2 l0, i.e. h = l0")
           .above(1.0)
           .at_most(4.0),
-      string_parameter("time_step_rule", "cfl", "\"cfl\": dt = cfl_number l0 / v_max (BK17); \"fixed\": time.time_step")
-          .one_of({"cfl", "fixed"}),
-      number_parameter("cfl_number", 0.4, "", "CFL factor with the particle diameter l0 (BK17: 0.4)").above(0.0).at_most(1.0),
-      number_parameter("min_time_step", 1.0e-4, "s", "lower bound of the CFL step (SPlisHSPlasH default)").above(0.0),
-      number_parameter("max_time_step", 5.0e-3, "s", "upper bound of the CFL step (SPlisHSPlasH default)").above(0.0),
       number_parameter("density_tolerance", 1.0e-4, "",
                        "density solver stops at mean max(rho* - rho0, 0)/rho0 below this (BK17: 0.01 %)")
           .above(0.0)
@@ -531,6 +483,16 @@ void mps_lab_register_method_dfsph(mps_lab::MethodRegistry& registry) {
                  {"dfsph_factor", "m^5/kg", "alpha_i of BK17 eq. (11)", false}};
   info.series_columns = {"divergence_iterations", "divergence_error", "density_iterations", "density_error",
                          "compression"};
+  // The step ([BK17] Algorithm 1: dt <= 0.4 d / v_max, d = l0), bounded as in SPlisHSPlasH.
+  TimeStepDefaults time_step;
+  time_step.rule = "cfl";
+  time_step.cfl_number = 0.4;
+  time_step.min_time_step = 1.0e-4;
+  time_step.max_time_step = 5.0e-3;
+  time_step.cfl_source = "BK17: 0.4";
+  time_step.bounds_source = "SPlisHSPlasH default";
+  const auto time_step_specs = time_step_parameters(time_step);
+  info.parameters.insert(info.parameters.begin() + 2, time_step_specs.begin(), time_step_specs.end());
   info.default_wall_treatments = {"akinci_boundary"};
   info.wall_samples = true;  // its operators sum over wall samples (core/wall_samples.hpp)
   info.create = [](const MethodSetup& setup) { return std::make_unique<dfsph::DfsphMethod>(setup); };

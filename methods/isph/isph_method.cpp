@@ -24,6 +24,7 @@
 #include "core/method.hpp"
 #include "core/output.hpp"
 #include "core/scene.hpp"
+#include "core/time_step.hpp"
 #include "methods/isph/isph_operators.hpp"
 #include "methods/isph/isph_pressure.hpp"
 
@@ -84,6 +85,7 @@ class IsphMethod final : public Method {
     settings_.warm_start = p.boolean("warm_start");
     preconditioner_choice_ = p.string("preconditioner");
     amg_min_fluid_particles_ = static_cast<std::size_t>(p.integer("amg_min_fluid_particles"));
+    time_step_settings_ = time_step_settings(p, scene_.time.time_step, scene_.source);
   }
 
   void initialise(ParticleSet& particles) override {
@@ -103,7 +105,20 @@ class IsphMethod final : public Method {
     summation_density(particles, neighbours_, samples_, kernel_, mass_, rest_density_, particles.field("density"));
   }
 
-  double time_step(const ParticleSet&) const override { return scene_.time.time_step; }
+  // "fixed": the scene's step. "cfl" (core/time_step.hpp): v_max = max_i |u_i| + |g| dt_prev
+  // over the fluid, the speed a particle can reach in the coming step under gravity (viscosity
+  // only slows it; no per-particle acceleration is kept between steps). At rest v_max = 0
+  // before the first step: the first step is max_time_step.
+  double time_step(const ParticleSet& particles) const override {
+    if (!time_step_settings_.cfl) return scene_.time.time_step;
+    double max_speed2 = 0.0;
+    for (std::size_t i = 0; i < particles.size(); ++i) {
+      if (particles.type[i] == ParticleType::Fluid) max_speed2 = std::max(max_speed2, particles.velocity[i].squaredNorm());
+    }
+    const double gained = clock_.steps() > 0 ? scene_.physics.gravity.norm() * clock_.last() : 0.0;
+    return clock_.next(time_step_settings_, std::sqrt(max_speed2) + gained, scene_.particle_spacing,
+                       scene_.time.end_time);
+  }
 
   StepReport step(ParticleSet& particles, double dt) override {
     const std::size_t n = particles.size();
@@ -226,6 +241,7 @@ class IsphMethod final : public Method {
 
     total_iterations_ += solve.iterations;
     ++steps_;
+    clock_.advance(dt);
     ungrounded_groups_ += solve.ungrounded_groups;
     StepReport result = report(particles, solve);
     result.speed_limited_particles = context.speed_limited;
@@ -246,6 +262,7 @@ class IsphMethod final : public Method {
                                                                                           : "diagonal"},
         {"mean_iterations", steps_ > 0 ? static_cast<double>(total_iterations_) / static_cast<double>(steps_) : 0.0},
         {"nonconverged_solves", nonconverged_solves_},
+        {"time_step", clock_.summary(time_step_settings_)},
         {"ghosts_created", ghosts_},
         {"ungrounded_groups_regularised", ungrounded_groups_}};
   }
@@ -262,6 +279,7 @@ class IsphMethod final : public Method {
     out.write_int(nonconverged_solves_);
     out.write_size(ghosts_);
     out.write_size(ungrounded_groups_);
+    clock_.save(out);
   }
 
   void restore_state(CheckpointReader& in) override {
@@ -272,6 +290,7 @@ class IsphMethod final : public Method {
     nonconverged_solves_ = in.read_int();
     ghosts_ = in.read_size();
     ungrounded_groups_ = in.read_size();
+    clock_.restore(in);
     if (neighbours_.particle_count() != acceleration_.size()) {
       in.fail("isph state for " + std::to_string(neighbours_.particle_count()) + " particles, the scene has " +
               std::to_string(acceleration_.size()));
@@ -414,6 +433,8 @@ class IsphMethod final : public Method {
   std::vector<double> rest_density_field_;  // rho0 for every particle
   bool use_summation_density_ = false;
   bool clamp_negative_pressure_ = true;
+  TimeStepSettings time_step_settings_;  // core/time_step.hpp
+  TimeStepClock clock_;                  // simulated time and the last step, for the CFL rule
   long long total_iterations_ = 0;
   long long steps_ = 0;
   long long nonconverged_solves_ = 0;
@@ -495,7 +516,18 @@ void mps_lab_register_method_isph(mps_lab::MethodRegistry& registry) {
   // Every operator and the PPE also sum over wall samples: dummy_layers, mirror_particles,
   // distance_function (docs/methods/isph.md, "Wall boundary models").
   info.wall_samples = true;
-  info.wall_samples = true;  // its operators sum over wall samples (core/wall_samples.hpp)
+  // The step: the scene's fixed step by default (as mps); "cfl" adapts it to the flow. 0.25
+  // keeps a margin below the largest stable fixed Courant number 0.4 measured with
+  // U = sqrt(2 g H) >= v_max (docs/stability.md).
+  TimeStepDefaults time_step;
+  time_step.rule = "fixed";
+  time_step.cfl_number = 0.25;
+  time_step.min_time_step = 1.0e-6;
+  time_step.max_time_step = 2.0e-3;
+  time_step.cfl_source = "0.25: below the largest stable 0.4 of docs/stability.md";
+  time_step.bounds_source = "docs/methods/isph.md: with 5e-3 s and cfl 0.1 the dam break gains energy at 1.3 s";
+  const auto time_step_specs = time_step_parameters(time_step);
+  info.parameters.insert(info.parameters.end(), time_step_specs.begin(), time_step_specs.end());
   info.create = [](const MethodSetup& setup) { return std::make_unique<isph::IsphMethod>(setup); };
   registry.add(std::move(info));
 }
