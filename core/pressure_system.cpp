@@ -71,4 +71,37 @@ Eigen::SparseMatrix<double, Eigen::RowMajor> to_eigen(const CsrMatrix& matrix) {
   return result;
 }
 
+std::size_t pin_ungrounded_groups(CsrMatrix& matrix, const std::vector<char>& grounded, std::size_t row_limit) {
+  const auto groups = ungrounded_groups(matrix, grounded);
+  for (const auto& members : groups) {
+    for (const int row : members) {
+      const auto r = static_cast<std::size_t>(row);
+      if (r < row_limit) matrix.value[static_cast<std::size_t>(matrix.row_start[r])] *= 2.0;
+    }
+  }
+  return groups.size();
+}
+
+void gather_unknowns(const std::vector<double>& pressure, const std::vector<int>& particle_of, bool warm_start,
+                     std::vector<double>& solution) {
+  const auto rows = static_cast<std::ptrdiff_t>(particle_of.size());
+  solution.resize(particle_of.size());
+#pragma omp parallel for schedule(static)
+  for (std::ptrdiff_t row = 0; row < rows; ++row) {
+    solution[static_cast<std::size_t>(row)] =
+        warm_start ? pressure[static_cast<std::size_t>(particle_of[static_cast<std::size_t>(row)])] : 0.0;
+  }
+}
+
+void scatter_unknowns(const std::vector<double>& solution, const std::vector<int>& particle_of, bool clamp_negative,
+                      std::vector<double>& pressure) {
+  const auto rows = static_cast<std::ptrdiff_t>(particle_of.size());
+#pragma omp parallel for schedule(static)
+  for (std::ptrdiff_t row = 0; row < rows; ++row) {
+    const double value = solution[static_cast<std::size_t>(row)];
+    pressure[static_cast<std::size_t>(particle_of[static_cast<std::size_t>(row)])] =
+        clamp_negative && value < 0.0 ? 0.0 : value;
+  }
+}
+
 }  // namespace mps_lab

@@ -180,15 +180,7 @@ PressureSolveResult PressurePoissonSolver::assemble(ParticleSet& particles, cons
   // fluid rows sum to zero and wall rows are weighted averages. As in the mps method (and the
   // public MPS-Basic code) the diagonal of such a group's fluid rows is doubled, which pins its
   // pressure level near zero.
-  const auto groups = ungrounded_groups(matrix_, grounded_);
-  for (const auto& members : groups) {
-    for (int row : members) {
-      if (static_cast<std::size_t>(row) < fluid_rows_) {
-        matrix_.value[static_cast<std::size_t>(matrix_.row_start[static_cast<std::size_t>(row)])] *= 2.0;
-      }
-    }
-  }
-  result.ungrounded_groups = groups.size();
+  result.ungrounded_groups = pin_ungrounded_groups(matrix_, grounded_, fluid_rows_);
   return result;
 }
 
@@ -202,28 +194,21 @@ void PressurePoissonSolver::solve_assembled(ParticleSet& particles, const Pressu
   }
   preconditioner_->setup(matrix_);
 
-  solution_.resize(static_cast<std::size_t>(unknowns));
-  double* pressure = particles.pressure.data();
-  const int* particle_of = particle_of_.data();
-  double* solution = solution_.data();
-  const bool warm = settings.warm_start;
-#pragma omp parallel for schedule(static)
-  for (int row = 0; row < unknowns; ++row) solution[row] = warm ? pressure[particle_of[row]] : 0.0;
+  gather_unknowns(particles.pressure, particle_of_, settings.warm_start, solution_);
 
   // BiCGSTAB until the recomputed residual ||b - A x|| / ||b|| is below the tolerance or the
   // iteration budget is spent (core/krylov.hpp restarts when the recurrence residual drifts).
   KrylovSettings krylov;
   krylov.tolerance = settings.tolerance;
   krylov.max_iterations = settings.max_iterations;
-  const KrylovResult solved = bicgstab(matrix_, rhs_.data(), solution, *preconditioner_, krylov, workspace_);
+  const KrylovResult solved = bicgstab(matrix_, rhs_.data(), solution_.data(), *preconditioner_, krylov, workspace_);
   if (!std::isfinite(solved.residual)) {
     throw std::runtime_error("ISPH pressure solve: BiCGSTAB produced a non-finite pressure");
   }
   result.iterations = solved.iterations;
   result.residual = solved.residual;
   result.converged = solved.converged;
-#pragma omp parallel for schedule(static)
-  for (int row = 0; row < unknowns; ++row) pressure[particle_of[row]] = solution[row];
+  scatter_unknowns(solution_, particle_of_, /*clamp_negative=*/false, particles.pressure);  // clamped by the method
 }
 
 PressureSolveResult PressurePoissonSolver::solve(ParticleSet& particles, const NeighbourList& neighbours,

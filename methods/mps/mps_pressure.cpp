@@ -118,11 +118,7 @@ PressureSolveResult PressurePoissonSolver::assemble(ParticleSet& particles, cons
   // A group of unknowns with no Dirichlet row (core/pressure_system.hpp) makes A singular
   // (pressure defined up to a constant). The remedy of the public MPS-Basic code (Kondo lab)
   // is kept: double the diagonal of such a group's rows, which pins its mean pressure near zero.
-  const auto groups = ungrounded_groups(matrix_, grounded_);
-  for (const auto& members : groups) {
-    for (int row : members) matrix_.value[static_cast<std::size_t>(matrix_.row_start[static_cast<std::size_t>(row)])] *= 2.0;
-  }
-  result.ungrounded_groups = groups.size();
+  result.ungrounded_groups = pin_ungrounded_groups(matrix_, grounded_, particle_of_.size());
   return result;
 }
 
@@ -136,29 +132,17 @@ void PressurePoissonSolver::solve_assembled(ParticleSet& particles, const Pressu
   }
   preconditioner_->setup(matrix_);
 
-  solution_.resize(static_cast<std::size_t>(unknowns));
-  double* pressure = particles.pressure.data();
-  const int* particle_of = particle_of_.data();
-  double* solution = solution_.data();
-  const bool warm = settings.warm_start;
-#pragma omp parallel for schedule(static)
-  for (int row = 0; row < unknowns; ++row) solution[row] = warm ? pressure[particle_of[row]] : 0.0;
+  gather_unknowns(particles.pressure, particle_of_, settings.warm_start, solution_);
 
   KrylovSettings krylov;
   krylov.tolerance = settings.tolerance;
   krylov.max_iterations = settings.max_iterations;
-  const KrylovResult solved = conjugate_gradient(matrix_, rhs_.data(), solution, *preconditioner_, krylov, workspace_);
+  const KrylovResult solved = conjugate_gradient(matrix_, rhs_.data(), solution_.data(), *preconditioner_, krylov, workspace_);
   result.iterations = solved.iterations;
   result.residual = solved.residual;
   result.converged = solved.converged;
 
-  const bool clamp = settings.clamp_negative;
-#pragma omp parallel for schedule(static)
-  for (int row = 0; row < unknowns; ++row) {
-    double value = solution[row];
-    if (clamp && value < 0.0) value = 0.0;  // spec §5.2-7
-    pressure[particle_of[row]] = value;
-  }
+  scatter_unknowns(solution_, particle_of_, settings.clamp_negative, particles.pressure);  // spec §5.2-7
 }
 
 }  // namespace mps_lab::mps
