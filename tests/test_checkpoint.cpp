@@ -89,10 +89,12 @@ std::vector<std::string> series_rows_without_wall_time(const fs::path& folder) {
 // The spec's dam break to `end_time` with `method` into `folder`; stops after `stop_after_steps`
 // steps when > 0.
 RunResult run_dambreak(const std::string& method, const fs::path& folder, double end_time,
-                       long long stop_after_steps = 0, long long checkpoint_every = 0) {
+                       long long stop_after_steps = 0, long long checkpoint_every = 0,
+                       const std::vector<std::string>& overrides = {}) {
   RunOptions options;
   options.scene_path = scene_path("dambreak.json");
   options.method = method;
+  options.overrides = overrides;
   options.output_directory = folder.string();
   options.end_time = end_time;
   options.checkpoint_every_steps = checkpoint_every;
@@ -232,20 +234,26 @@ TEST_CASE("checkpoint format: values read back bit for bit, damaged files are on
 TEST_CASE("interrupted and resumed = uninterrupted, bit for bit: mps, isph, dfsph on the dam break", "[checkpoint]") {
   // Stop steps away from the frame (100 steps, 0.05 s) and series (0.005 s) schedules, so
   // that the interruption frame is extra and must be removed by resume. 0.3 s is 600 steps
-  // for mps and isph and about 75 CFL steps for dfsph.
+  // for mps and isph and about 75 CFL steps for dfsph; isph with its CFL rule (its clock is
+  // part of the checkpoint) takes about 150.
   struct Case {
     std::string method;
     long long stop_after;
+    std::vector<std::string> overrides;
+    std::string tag;
   };
-  for (const Case& test : {Case{"mps", 257}, Case{"isph", 311}, Case{"dfsph", 37}}) {
+  const std::vector<Case> cases = {Case{"mps", 257, {}, ""}, Case{"isph", 311, {}, ""},
+                                   Case{"isph", 97, {"methods.isph.time_step_rule=\"cfl\""}, "_cfl"},
+                                   Case{"dfsph", 37, {}, ""}};
+  for (const Case& test : cases) {
     if (registries().methods.find(test.method) == nullptr) continue;  // not built
-    INFO("method " << test.method);
-    const auto uninterrupted = fresh_directory("resume_full_" + test.method);
-    const auto interrupted = fresh_directory("resume_part_" + test.method);
-    const RunResult full = run_dambreak(test.method, uninterrupted, 0.3);
+    INFO("method " << test.method << test.tag);
+    const auto uninterrupted = fresh_directory("resume_full_" + test.method + test.tag);
+    const auto interrupted = fresh_directory("resume_part_" + test.method + test.tag);
+    const RunResult full = run_dambreak(test.method, uninterrupted, 0.3, 0, 0, test.overrides);
     REQUIRE(full.status == "completed");
 
-    const RunResult stopped = run_dambreak(test.method, interrupted, 0.3, test.stop_after);
+    const RunResult stopped = run_dambreak(test.method, interrupted, 0.3, test.stop_after, 0, test.overrides);
     CHECK(stopped.status == "interrupted");
     CHECK(stopped.steps == test.stop_after);
     CHECK_THAT(stopped.message, Catch::StartsWith("stopped by a test at t = ") &&
