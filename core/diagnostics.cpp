@@ -14,12 +14,14 @@ namespace {
 
 // Connected bodies of fluid from a neighbour list (pairs closer than link_distance).
 std::size_t label_bodies(const ParticleSet& particles, const NeighbourList& links, double link_distance,
-                         std::vector<int>& label, int& largest) {
+                         FlowWorkspace& workspace, int& largest) {
   const std::size_t n = particles.size();
   const double link2 = link_distance * link_distance;
+  std::vector<int>& label = workspace.label;
+  std::vector<std::size_t>& sizes = workspace.body_sizes;
+  std::vector<std::uint32_t>& stack = workspace.stack;
   label.assign(n, -1);
-  std::vector<std::size_t> sizes;
-  std::vector<std::uint32_t> stack;
+  sizes.clear();
   for (std::size_t seed = 0; seed < n; ++seed) {
     if (particles.type[seed] != ParticleType::Fluid || label[seed] >= 0) continue;
     const int component = static_cast<int>(sizes.size());
@@ -58,17 +60,23 @@ double relative_density(const ParticleSet& particles, std::size_t i, const Neigh
 
 // relative_density of every fluid particle (0 for the others), in parallel: the sums that
 // follow add them in index order, so the result does not depend on the thread count.
-std::vector<double> relative_densities(const ParticleSet& particles, const NeighbourList& neighbours,
-                                       const SphKernel& kernel, double lattice_sum) {
-  std::vector<double> ratios(particles.size(), 0.0);
+void relative_densities(const ParticleSet& particles, const NeighbourList& neighbours, const SphKernel& kernel,
+                        double lattice_sum, std::vector<double>& ratios) {
+  ratios.resize(particles.size());
   const auto count = static_cast<std::ptrdiff_t>(particles.size());
 #pragma omp parallel for schedule(static)
   for (std::ptrdiff_t i = 0; i < count; ++i) {
-    if (particles.type[i] == ParticleType::Fluid) {
-      ratios[i] = relative_density(particles, static_cast<std::size_t>(i), neighbours, kernel, lattice_sum);
-    }
+    ratios[i] = particles.type[i] == ParticleType::Fluid
+                    ? relative_density(particles, static_cast<std::size_t>(i), neighbours, kernel, lattice_sum)
+                    : 0.0;
   }
-  return ratios;
+}
+
+// The measures' neighbour search, into the workspace's reused storage (cell size = radius).
+const NeighbourList& search(const ParticleSet& particles, double radius, FlowWorkspace& workspace) {
+  workspace.cells.build(particles.position, particles.type, radius);
+  workspace.cells.find_neighbours(particles.position, particles.type, radius, workspace.neighbours);
+  return workspace.neighbours;
 }
 
 // Particles with nearly full support count in the density error (diagnostics.hpp).
@@ -81,10 +89,21 @@ SphKernel density_kernel(const Scene& scene) {
 }  // namespace
 
 double common_density_error(const ParticleSet& particles, const Scene& scene) {
+  FlowWorkspace workspace;
+  return common_density_error(particles, scene, workspace);
+}
+
+FlowMeasures measure_flow(const ParticleSet& particles, const Scene& scene) {
+  FlowWorkspace workspace;
+  return measure_flow(particles, scene, workspace);
+}
+
+double common_density_error(const ParticleSet& particles, const Scene& scene, FlowWorkspace& workspace) {
   const SphKernel kernel = density_kernel(scene);
-  const NeighbourList neighbours = find_neighbours(particles.position, particles.type, kernel.support());
+  const NeighbourList& neighbours = search(particles, kernel.support(), workspace);
   const double lattice_sum = lattice_kernel_sum(kernel, scene.particle_spacing);
-  const std::vector<double> ratios = relative_densities(particles, neighbours, kernel, lattice_sum);
+  relative_densities(particles, neighbours, kernel, lattice_sum, workspace.ratios);
+  const std::vector<double>& ratios = workspace.ratios;
   double deviation = 0.0;
   std::size_t full_support = 0;
   for (std::size_t i = 0; i < particles.size(); ++i) {
@@ -98,7 +117,7 @@ double common_density_error(const ParticleSet& particles, const Scene& scene) {
   return full_support > 0 ? deviation / static_cast<double>(full_support) : 0.0;
 }
 
-FlowMeasures measure_flow(const ParticleSet& particles, const Scene& scene) {
+FlowMeasures measure_flow(const ParticleSet& particles, const Scene& scene, FlowWorkspace& workspace) {
   FlowMeasures out;
   const double l0 = scene.particle_spacing;
   const double mass = scene.physics.density * l0 * l0;  // kg per metre of depth
@@ -110,14 +129,14 @@ FlowMeasures measure_flow(const ParticleSet& particles, const Scene& scene) {
   const SphKernel kernel = density_kernel(scene);
 
   // One search serves the bodies (radius `link`) and the density sums (kernel support).
-  const NeighbourList neighbours =
-      find_neighbours(particles.position, particles.type, std::max(link, kernel.support()));
-  std::vector<int> label;
+  const NeighbourList& neighbours = search(particles, std::max(link, kernel.support()), workspace);
   int largest = -1;
-  label_bodies(particles, neighbours, link, label, largest);
+  label_bodies(particles, neighbours, link, workspace, largest);
+  const std::vector<int>& label = workspace.label;
 
   const double lattice_sum = lattice_kernel_sum(kernel, l0);  // reference density / m
-  const std::vector<double> ratios = relative_densities(particles, neighbours, kernel, lattice_sum);
+  relative_densities(particles, neighbours, kernel, lattice_sum, workspace.ratios);
+  const std::vector<double>& ratios = workspace.ratios;
 
   double bulk_front = -std::numeric_limits<double>::infinity();
   double any_front = bulk_front;

@@ -18,6 +18,8 @@
 #include "core/particles.hpp"
 #include "core/scene.hpp"
 
+#include "core/neighbour_search.hpp"
+
 namespace mps_lab {
 
 struct FlowMeasures {
@@ -37,9 +39,23 @@ struct FlowMeasures {
   std::size_t ghost = 0;
 };
 
-FlowMeasures measure_flow(const ParticleSet& particles, const Scene& scene);
+// Storage of the measures' own neighbour search, body labels and density ratios, kept by
+// whoever measures repeatedly (the driver, the stability monitor), so that a measurement in
+// the time loop allocates nothing once the particle count is reached.
+struct FlowWorkspace {
+  CellList cells;
+  NeighbourList neighbours;
+  std::vector<int> label;              // body of each fluid particle (-1: none)
+  std::vector<std::size_t> body_sizes;
+  std::vector<std::uint32_t> stack;
+  std::vector<double> ratios;          // rho_i / rho_lattice (fluid; 0 elsewhere)
+};
+
+FlowMeasures measure_flow(const ParticleSet& particles, const Scene& scene, FlowWorkspace& workspace);
+FlowMeasures measure_flow(const ParticleSet& particles, const Scene& scene);  // with a workspace of its own
 
 // FlowMeasures::density_error alone (one neighbour search), for the stability monitor.
+double common_density_error(const ParticleSet& particles, const Scene& scene, FlowWorkspace& workspace);
 double common_density_error(const ParticleSet& particles, const Scene& scene);
 
 }  // namespace mps_lab

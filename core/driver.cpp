@@ -303,7 +303,8 @@ RunResult run_simulation(const RunOptions& options, const MethodRegistry& method
   if (!resuming) output.prepare();
 
   Simulation simulation(scene, *info);
-  const FlowMeasures initial = measure_flow(simulation.particles(), scene);
+  FlowWorkspace flow_workspace;  // the measures' search storage, reused by every series row
+  const FlowMeasures initial = measure_flow(simulation.particles(), scene, flow_workspace);
 
   // The driver's own state between steps: when the next frame and series row are due by
   // simulated time, and the wall time of the run's earlier sessions.
@@ -408,7 +409,7 @@ RunResult run_simulation(const RunOptions& options, const MethodRegistry& method
   const auto record = [&](bool frame) {
     const FlowMeasures measures = [&] {
       const auto timed = timers.measure(diagnostics_phase);
-      return measure_flow(simulation.particles(), scene);
+      return measure_flow(simulation.particles(), scene, flow_workspace);
     }();
     const auto timed = timers.measure(output_phase);
     const StepReport& report = simulation.last_report();

@@ -109,7 +109,8 @@ bool StabilityMonitor::beyond_a_wall(const Vec2& x) const {
 }
 
 StabilityMonitor::StabilityMonitor(const Scene& scene, StabilitySettings settings)
-    : scene_(scene), geometry_(std::make_shared<const WallGeometry>(scene)), settings_(settings) {
+    : scene_(scene), geometry_(std::make_shared<const WallGeometry>(scene)), settings_(settings),
+      density_workspace_(std::make_shared<FlowWorkspace>()) {
   state_.counts.assign(stability_event_kinds().size(), 0);
 }
 
@@ -263,7 +264,7 @@ void StabilityMonitor::check_step(const ParticleSet& particles, const StepReport
   state_.last_penetrations = penetrations;
 
   if (step % settings_.density_check_every_steps == 0) {
-    state_.last_density_error = common_density_error(particles, scene_);
+    state_.last_density_error = common_density_error(particles, scene_, *density_workspace_);
     if (state_.last_density_error > settings_.density_error_limit) {
       const std::string reason = format("the density error %.3g exceeds stability.density_error_limit = %.3g",
                                         state_.last_density_error, settings_.density_error_limit);

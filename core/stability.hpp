@@ -38,6 +38,8 @@
 
 namespace mps_lab {
 
+struct FlowWorkspace;
+
 class WallGeometry;
 
 struct Scene;
@@ -141,6 +143,9 @@ class StabilityMonitor {
   std::shared_ptr<const WallGeometry> geometry_;  // core/wall_geometry.hpp
   StabilitySettings settings_;
   StabilityState state_;
+  // The density check's search storage, reused (core/diagnostics.hpp; held by pointer because
+  // diagnostics.hpp includes scene.hpp, which includes this file).
+  std::shared_ptr<FlowWorkspace> density_workspace_;
 };
 
 }  // namespace mps_lab
