@@ -484,14 +484,7 @@ void mps_lab_register_method_dfsph(mps_lab::MethodRegistry& registry) {
   info.series_columns = {"divergence_iterations", "divergence_error", "density_iterations", "density_error",
                          "compression"};
   // The step ([BK17] Algorithm 1: dt <= 0.4 d / v_max, d = l0), bounded as in SPlisHSPlasH.
-  TimeStepDefaults time_step;
-  time_step.rule = "cfl";
-  time_step.cfl_number = 0.4;
-  time_step.min_time_step = 1.0e-4;
-  time_step.max_time_step = 5.0e-3;
-  time_step.cfl_source = "BK17: 0.4";
-  time_step.bounds_source = "SPlisHSPlasH default";
-  const auto time_step_specs = time_step_parameters(time_step);
+  const auto time_step_specs = time_step_parameters({"cfl", 0.4, 1.0e-4, 5.0e-3, "BK17: 0.4", "SPlisHSPlasH default"});
   info.parameters.insert(info.parameters.begin() + 2, time_step_specs.begin(), time_step_specs.end());
   info.default_wall_treatments = {"akinci_boundary"};
   info.wall_samples = true;  // its operators sum over wall samples (core/wall_samples.hpp)

@@ -240,7 +240,6 @@ class IsphMethod final : public Method {
     }
 
     total_iterations_ += solve.iterations;
-    ++steps_;
     clock_.advance(dt);
     ungrounded_groups_ += solve.ungrounded_groups;
     StepReport result = report(particles, solve);
@@ -260,7 +259,7 @@ class IsphMethod final : public Method {
         {"preconditioner", settings_.preconditioner == PreconditionerKind::Amg            ? "amg"
                            : settings_.preconditioner == PreconditionerKind::IncompleteLu ? "incomplete_lu"
                                                                                           : "diagonal"},
-        {"mean_iterations", steps_ > 0 ? static_cast<double>(total_iterations_) / static_cast<double>(steps_) : 0.0},
+        {"mean_iterations", clock_.steps() > 0 ? static_cast<double>(total_iterations_) / static_cast<double>(clock_.steps()) : 0.0},
         {"nonconverged_solves", nonconverged_solves_},
         {"time_step", clock_.summary(time_step_settings_)},
         {"ghosts_created", ghosts_},
@@ -275,7 +274,6 @@ class IsphMethod final : public Method {
     write_neighbour_list(out, neighbours_);
     write_wall_samples(out, samples_);
     out.write_int(total_iterations_);
-    out.write_int(steps_);
     out.write_int(nonconverged_solves_);
     out.write_size(ghosts_);
     out.write_size(ungrounded_groups_);
@@ -286,7 +284,6 @@ class IsphMethod final : public Method {
     read_neighbour_list(in, neighbours_);
     read_wall_samples(in, samples_);
     total_iterations_ = in.read_int();
-    steps_ = in.read_int();
     nonconverged_solves_ = in.read_int();
     ghosts_ = in.read_size();
     ungrounded_groups_ = in.read_size();
@@ -434,9 +431,8 @@ class IsphMethod final : public Method {
   bool use_summation_density_ = false;
   bool clamp_negative_pressure_ = true;
   TimeStepSettings time_step_settings_;  // core/time_step.hpp
-  TimeStepClock clock_;                  // simulated time and the last step, for the CFL rule
+  TimeStepClock clock_;                  // simulated time, steps taken and the last step (CFL rule)
   long long total_iterations_ = 0;
-  long long steps_ = 0;
   long long nonconverged_solves_ = 0;
   std::size_t ghosts_ = 0;
   std::size_t ungrounded_groups_ = 0;
@@ -519,14 +515,9 @@ void mps_lab_register_method_isph(mps_lab::MethodRegistry& registry) {
   // The step: the scene's fixed step by default (as mps); "cfl" adapts it to the flow. 0.25
   // keeps a margin below the largest stable fixed Courant number 0.4 measured with
   // U = sqrt(2 g H) >= v_max (docs/stability.md).
-  TimeStepDefaults time_step;
-  time_step.rule = "fixed";
-  time_step.cfl_number = 0.25;
-  time_step.min_time_step = 1.0e-6;
-  time_step.max_time_step = 2.0e-3;
-  time_step.cfl_source = "0.25: below the largest stable 0.4 of docs/stability.md";
-  time_step.bounds_source = "docs/methods/isph.md: with 5e-3 s and cfl 0.1 the dam break gains energy at 1.3 s";
-  const auto time_step_specs = time_step_parameters(time_step);
+  const auto time_step_specs = time_step_parameters(
+      {"fixed", 0.25, 1.0e-6, 2.0e-3, "0.25: below the largest stable 0.4 of docs/stability.md",
+       "docs/methods/isph.md: 5e-3 s spoils the dam break"});
   info.parameters.insert(info.parameters.end(), time_step_specs.begin(), time_step_specs.end());
   info.create = [](const MethodSetup& setup) { return std::make_unique<isph::IsphMethod>(setup); };
   registry.add(std::move(info));
