@@ -7,7 +7,7 @@ series.csv (one row every output.series_every_steps steps) and the frames. Marti
     surge front      Z  = front / a   against  T   = n t sqrt(g/a) = t sqrt(g H) / a
     residual height  H* = height / H  against  tau = t sqrt(g/a)
 
-The same definitions are in core/validation.hpp; docs/validation.md explains them.
+The same definitions are in lab/validation.hpp; docs/validation.md explains them.
 """
 from __future__ import annotations
 
@@ -91,7 +91,7 @@ def martin_moyce_height() -> tuple[np.ndarray, np.ndarray]:
 def curve_error(sim_x, sim_y, exp_x, exp_y, shift: float = 0.0) -> tuple[float, float, int]:
     """(RMS, max, points) of sim - experiment at the experiment's x, sim evaluated at x - shift.
 
-    Points outside the simulated range are skipped (same rule as core/validation.cpp)."""
+    Points outside the simulated range are skipped (same rule as lab/validation.cpp)."""
     sim_x, sim_y = np.asarray(sim_x), np.asarray(sim_y)
     x = np.asarray(exp_x) - shift
     inside = (x >= sim_x[0]) & (x <= sim_x[-1])

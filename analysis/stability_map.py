@@ -60,7 +60,7 @@ SUMMARY_COLUMNS = ["map", "method", "rule", "l0", "largest_stable_courant", "dt_
                    "front_rms_shifted_at_limit", "first_unstable_courant", "first_unstable_status",
                    "first_unstable_event", "completed_above_limit", "stable_band_from", "stable_band_to"]
 MAP_KEYS = {"method", "courant", "cfl_number", "spacings", "set", "title"}
-# Words of the monitor's reasons (core/stability.cpp), for a stop event missing from a
+# Words of the monitor's reasons (core/run/stability.cpp), for a stop event missing from a
 # truncated event log.
 REASON_WORDS = [("non-finite", "non_finite"), ("Courant number", "courant"), ("capped the speed", "speed_limited"),
                 ("mechanical energy", "energy_growth"), ("left the domain", "escaped"), ("beyond a wall", "penetration"),

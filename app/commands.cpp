@@ -11,13 +11,13 @@
 
 #include <omp.h>
 
-#include "core/benchmark.hpp"
-#include "core/compare.hpp"
-#include "core/driver.hpp"
-#include "core/error.hpp"
-#include "core/method.hpp"
-#include "core/output.hpp"
-#include "core/wall_treatment.hpp"
+#include "lab/benchmark.hpp"
+#include "lab/compare.hpp"
+#include "core/run/driver.hpp"
+#include "core/base/error.hpp"
+#include "core/run/method.hpp"
+#include "core/io/output.hpp"
+#include "core/walls/wall_treatment.hpp"
 
 namespace mps_lab::app {
 

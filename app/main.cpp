@@ -12,7 +12,7 @@
 #include <CLI/CLI.hpp>
 
 #include "app/commands.hpp"
-#include "core/error.hpp"
+#include "core/base/error.hpp"
 
 int main(int argc, char** argv) {
   CLI::App app{"mps_lab: a testbed comparing incompressible particle methods (MPS, ISPH, DFSPH) on the same scenes"};

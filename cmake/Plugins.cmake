@@ -6,16 +6,21 @@
 # adding files, never editing a list in the core (and there is no static-initialisation
 # registry, i.e. no global mutable state).
 
-function(mps_lab_collect_wall_treatments dir out_sources out_decls out_calls)
+function(mps_lab_collect_wall_treatments dir out_decls out_calls)
+  # A wall treatment is a file core/walls/<name>.cpp that defines its registration function;
+  # the other files of core/walls/ (geometry, samples, the registry) are the walls' machinery.
   file(GLOB sources CONFIGURE_DEPENDS ${dir}/*.cpp)
   set(decls "")
   set(calls "")
   foreach(source IN LISTS sources)
     get_filename_component(name ${source} NAME_WE)
+    file(STRINGS ${source} defines REGEX "^void mps_lab_register_wall_treatment_${name}\\(")
+    if(NOT defines)
+      continue()
+    endif()
     string(APPEND decls "void mps_lab_register_wall_treatment_${name}(mps_lab::WallTreatmentRegistry&);\n")
     string(APPEND calls "  mps_lab_register_wall_treatment_${name}(registry);\n")
   endforeach()
-  set(${out_sources} ${sources} PARENT_SCOPE)
   set(${out_decls} "${decls}" PARENT_SCOPE)
   set(${out_calls} "${calls}" PARENT_SCOPE)
 endfunction()

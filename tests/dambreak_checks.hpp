@@ -7,14 +7,14 @@
 //   - in every frame no fluid particle is closer than `min_wall_distance` (in l0) to a wall
 //     particle line (0.5 l0 is the wall surface, where the spec's position clamp holds fluid);
 //   - the front and height series cover every point of Martin & Moyce's Tables 2 and 6.
-// It returns the run and its evaluation against the experiment (core/compare.hpp: the same
+// It returns the run and its evaluation against the experiment (lab/compare.hpp: the same
 // numbers `mps_lab compare` writes into summary.csv), for each method's own tolerances.
 #include <algorithm>
 
 #include <catch2/catch.hpp>
 
-#include "core/compare.hpp"
-#include "core/driver.hpp"
+#include "lab/compare.hpp"
+#include "core/run/driver.hpp"
 #include "support.hpp"
 
 namespace mps_lab::testing {

@@ -10,10 +10,10 @@
 #include <string>
 #include <vector>
 
-#include "core/method.hpp"
-#include "core/particles.hpp"
-#include "core/scene.hpp"
-#include "core/wall_treatment.hpp"
+#include "core/run/method.hpp"
+#include "core/base/particles.hpp"
+#include "core/io/scene.hpp"
+#include "core/walls/wall_treatment.hpp"
 
 namespace mps_lab::testing {
 

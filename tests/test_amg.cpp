@@ -1,4 +1,4 @@
-// The smoothed-aggregation AMG preconditioner (core/amg.hpp): iteration counts of
+// The smoothed-aggregation AMG preconditioner (core/linalg/amg.hpp): iteration counts of
 // preconditioned CG that stay flat while Jacobi-CG's grow like sqrt(N), on the 5-point
 // Poisson matrix and on a particle-like (MPS kernel) matrix; a symmetric operator; the same
 // bits for 1 and 2 threads; BiCGSTAB on mildly nonsymmetric rows (ISPH). The Krylov solvers
@@ -14,8 +14,8 @@
 
 #include <catch2/catch.hpp>
 
-#include "core/amg.hpp"
-#include "core/krylov.hpp"
+#include "core/linalg/amg.hpp"
+#include "core/linalg/krylov.hpp"
 
 using namespace mps_lab;
 

@@ -16,11 +16,11 @@
 #include <spawn.h>
 #include <sys/wait.h>
 
-#include "core/checkpoint.hpp"
-#include "core/compare.hpp"
-#include "core/driver.hpp"
-#include "core/error.hpp"
-#include "core/output.hpp"
+#include "core/io/checkpoint.hpp"
+#include "lab/compare.hpp"
+#include "core/run/driver.hpp"
+#include "core/base/error.hpp"
+#include "core/io/output.hpp"
 #include "support.hpp"
 
 using namespace mps_lab;

@@ -1,9 +1,9 @@
-// The comparison metrics (core/validation.hpp, core/compare.hpp) on series with a known answer.
+// The comparison metrics (lab/validation.hpp, lab/compare.hpp) on series with a known answer.
 #include <catch2/catch.hpp>
 
-#include "core/compare.hpp"
-#include "core/output.hpp"
-#include "core/validation.hpp"
+#include "lab/compare.hpp"
+#include "core/io/output.hpp"
+#include "lab/validation.hpp"
 #include "support.hpp"
 
 using namespace mps_lab;

@@ -8,7 +8,7 @@
 
 #include <catch2/catch.hpp>
 
-#include "core/driver.hpp"
+#include "core/run/driver.hpp"
 #include "support.hpp"
 
 using namespace mps_lab;

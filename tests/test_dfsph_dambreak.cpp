@@ -5,7 +5,7 @@
 
 #include <cmath>
 
-#include "core/driver.hpp"
+#include "core/run/driver.hpp"
 #include "dambreak_checks.hpp"
 
 using namespace mps_lab;

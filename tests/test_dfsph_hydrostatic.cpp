@@ -30,7 +30,7 @@
 
 #include <cmath>
 
-#include "core/driver.hpp"
+#include "core/run/driver.hpp"
 #include "support.hpp"
 
 using namespace mps_lab;

@@ -5,8 +5,8 @@
 
 #include <cmath>
 
-#include "core/driver.hpp"
-#include "core/error.hpp"
+#include "core/run/driver.hpp"
+#include "core/base/error.hpp"
 #include "support.hpp"
 
 using namespace mps_lab;

@@ -5,7 +5,7 @@
 #include <algorithm>
 #include <cmath>
 
-#include "core/neighbour_search.hpp"
+#include "core/search/neighbour_search.hpp"
 #include "methods/dfsph/dfsph_operators.hpp"
 #include "methods/dfsph/dfsph_solvers.hpp"
 

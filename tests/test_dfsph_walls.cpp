@@ -1,4 +1,4 @@
-// DFSPH with the boundary models of wall samples (core/wall_samples.hpp): dummy_layers,
+// DFSPH with the boundary models of wall samples (core/walls/wall_samples.hpp): dummy_layers,
 // mirror_particles, distance_function, each alone (DFSPH has no default measure), on still
 // water and on the spec's dam break; the Akinci parameters read from akinci_boundary; a
 // restart with wall samples. How DFSPH sums over samples, and every number quoted here:
@@ -15,10 +15,10 @@
 #include <cmath>
 #include <set>
 
-#include "core/compare.hpp"
-#include "core/driver.hpp"
-#include "core/error.hpp"
-#include "core/wall_geometry.hpp"
+#include "lab/compare.hpp"
+#include "core/run/driver.hpp"
+#include "core/base/error.hpp"
+#include "core/walls/wall_geometry.hpp"
 #include "support.hpp"
 
 using namespace mps_lab;

@@ -1,8 +1,8 @@
-// The measured quantities of series.csv (core/diagnostics.hpp, docs/validation.md).
+// The measured quantities of series.csv (core/run/diagnostics.hpp, docs/validation.md).
 #include <catch2/catch.hpp>
 
-#include "core/diagnostics.hpp"
-#include "core/geometry.hpp"
+#include "core/run/diagnostics.hpp"
+#include "core/io/geometry.hpp"
 #include "support.hpp"
 
 using namespace mps_lab;

@@ -2,7 +2,7 @@
 // shared blocks and the wall treatments, docs/methods/<name>.md for each method.
 #include <catch2/catch.hpp>
 
-#include "core/scene.hpp"
+#include "core/io/scene.hpp"
 #include "support.hpp"
 
 using namespace mps_lab;

@@ -6,8 +6,8 @@
 
 #include <algorithm>
 
-#include "core/driver.hpp"
-#include "core/error.hpp"
+#include "core/run/driver.hpp"
+#include "core/base/error.hpp"
 #include "dambreak_checks.hpp"
 
 using namespace mps_lab;

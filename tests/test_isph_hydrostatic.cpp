@@ -18,7 +18,7 @@
 //     0.82 at 0.05 m depth to 0.96 at 0.25 m: exactly the l0/2 offset).
 #include <catch2/catch.hpp>
 
-#include "core/driver.hpp"
+#include "core/run/driver.hpp"
 #include "support.hpp"
 
 using namespace mps_lab;

@@ -4,7 +4,7 @@
 
 #include <catch2/catch.hpp>
 
-#include "core/neighbour_search.hpp"
+#include "core/search/neighbour_search.hpp"
 #include "methods/isph/isph_operators.hpp"
 #include "methods/isph/isph_pressure.hpp"
 #include "support.hpp"

@@ -1,4 +1,4 @@
-// ISPH with the boundary models of wall samples (core/wall_samples.hpp): dummy_layers,
+// ISPH with the boundary models of wall samples (core/walls/wall_samples.hpp): dummy_layers,
 // mirror_particles, distance_function instead of the default adami_wall_particles. The
 // operators with samples on exact fields, still water, the spec's dam break (with and without
 // ISPH's default wall_position_clamp) and a bit-for-bit restart. The method's side and the
@@ -9,11 +9,11 @@
 #include <memory>
 #include <set>
 
-#include "core/compare.hpp"
-#include "core/driver.hpp"
-#include "core/geometry.hpp"
-#include "core/neighbour_search.hpp"
-#include "core/wall_geometry.hpp"
+#include "lab/compare.hpp"
+#include "core/run/driver.hpp"
+#include "core/io/geometry.hpp"
+#include "core/search/neighbour_search.hpp"
+#include "core/walls/wall_geometry.hpp"
 #include "methods/isph/isph_operators.hpp"
 #include "methods/isph/isph_pressure.hpp"
 #include "support.hpp"
@@ -317,7 +317,7 @@ void check_dambreak(const DambreakRun& run, const std::string& model) {
   const RunEvaluation& e = run.evaluation;
   INFO("front RMS " << e.front_rms << "; best shift " << e.front_shift << " -> RMS " << e.front_rms_shifted
                     << "; height RMS " << e.height_rms);
-  // The flow against Martin & Moyce (core/compare.hpp), as a guard that the walls did not
+  // The flow against Martin & Moyce (lab/compare.hpp), as a guard that the walls did not
   // change it; measured (adami_wall_particles: 0.112, shift +0.093 -> 0.050, height 0.020):
   //   dummy_layers       front RMS 0.117, shift +0.082 -> 0.086, height RMS 0.027
   //   mirror_particles   front RMS 0.219, shift +0.183 -> 0.048, height RMS 0.017 (free slip:
@@ -350,7 +350,7 @@ TEST_CASE("ISPH dam break to 2 s, wall-sample pressure and the wall position cla
 TEST_CASE("ISPH dam break to 2 s: each wall-sample model keeps the fluid in without the wall position clamp",
           "[isph][walls][validation]") {
   // wall_position_clamp off: the boundary model alone, its wall samples in every operator and
-  // its kinematic condition crossing = "reflect" (core/wall_geometry.hpp), which runs before
+  // its kinematic condition crossing = "reflect" (core/walls/wall_geometry.hpp), which runs before
   // the clamp would: with the clamp on, the runs are the same bit for bit. The samples'
   // pressure alone (crossing = "none") does not keep the fluid in (docs/methods/isph.md):
   // fluid beyond the first wall line at 0.16 s (mirror_particles), 0.34 s (distance_function);

@@ -1,7 +1,7 @@
 // MPS weight function and lattice constants (spec §2, §3).
 #include <catch2/catch.hpp>
 
-#include "core/kernels.hpp"
+#include "methods/mps/mps_kernels.hpp"
 
 using namespace mps_lab;
 

@@ -1,4 +1,4 @@
-// The Krylov solvers of core/krylov.hpp against Eigen: conjugate gradients on a symmetric
+// The Krylov solvers of core/linalg/krylov.hpp against Eigen: conjugate gradients on a symmetric
 // positive definite system, BiCGSTAB on a non-symmetric one, each with the Jacobi and the
 // block ILU(0) preconditioner; their stopping rule, iteration cap, warm start, and that the
 // result does not depend on the number of threads.
@@ -14,8 +14,8 @@
 #include <Eigen/SparseCholesky>
 #include <Eigen/SparseLU>
 
-#include "core/krylov.hpp"
-#include "core/pressure_system.hpp"
+#include "core/linalg/krylov.hpp"
+#include "core/linalg/pressure_system.hpp"
 
 using namespace mps_lab;
 

@@ -14,8 +14,8 @@
 //     (measured 0.7-5%; the margin covers the noise of a mean over 20 frames of a noisy field).
 #include <catch2/catch.hpp>
 
-#include "core/driver.hpp"
-#include "core/geometry.hpp"
+#include "core/run/driver.hpp"
+#include "core/io/geometry.hpp"
 #include "support.hpp"
 
 using namespace mps_lab;

@@ -4,7 +4,7 @@
 #include <Eigen/SparseCholesky>
 #include <catch2/catch.hpp>
 
-#include "core/geometry.hpp"
+#include "core/io/geometry.hpp"
 #include "methods/mps/mps_operators.hpp"
 #include "methods/mps/mps_pressure.hpp"
 #include "support.hpp"

@@ -4,7 +4,7 @@
 
 #include <catch2/catch.hpp>
 
-#include "core/neighbour_search.hpp"
+#include "core/search/neighbour_search.hpp"
 
 using namespace mps_lab;
 

@@ -4,9 +4,9 @@
 
 #include <catch2/catch.hpp>
 
-#include "core/driver.hpp"
-#include "core/geometry.hpp"
-#include "core/output.hpp"
+#include "core/run/driver.hpp"
+#include "core/io/geometry.hpp"
+#include "core/io/output.hpp"
 #include "support.hpp"
 
 using namespace mps_lab;

@@ -12,9 +12,9 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
-#include "core/driver.hpp"
-#include "core/error.hpp"
-#include "core/output.hpp"
+#include "core/run/driver.hpp"
+#include "core/base/error.hpp"
+#include "core/io/output.hpp"
 #include "support.hpp"
 
 using namespace mps_lab;

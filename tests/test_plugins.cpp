@@ -3,8 +3,8 @@
 #include <catch2/catch.hpp>
 #include <omp.h>
 
-#include "core/driver.hpp"
-#include "core/geometry.hpp"
+#include "core/run/driver.hpp"
+#include "core/io/geometry.hpp"
 #include "support.hpp"
 
 using namespace mps_lab;

@@ -1,10 +1,10 @@
-// Groups of PPE unknowns without a Dirichlet neighbour (core/pressure_system.hpp).
+// Groups of PPE unknowns without a Dirichlet neighbour (core/linalg/pressure_system.hpp).
 // (End to end, a tank closed and filled to the lid has no free surface at all: there the
 // diagonal-doubling remedy does not keep MPS or ISPH stable. Measured: MPS reaches 4 m/s and
 // ISPH 1e13 m/s within 0.3 s. That case belongs to the stability work, not to this test.)
 #include <catch2/catch.hpp>
 
-#include "core/pressure_system.hpp"
+#include "core/linalg/pressure_system.hpp"
 #include "support.hpp"
 
 using namespace mps_lab;

@@ -1,13 +1,13 @@
-// Per-phase timers (core/profile.hpp), the run's profile in run.json and on screen
-// (--profile), and the benchmark harness behind `mps_lab bench` (core/benchmark.hpp).
+// Per-phase timers (core/run/profile.hpp), the run's profile in run.json and on screen
+// (--profile), and the benchmark harness behind `mps_lab bench` (lab/benchmark.hpp).
 #include <catch2/catch.hpp>
 
 #include <fstream>
 #include <thread>
 
-#include "core/benchmark.hpp"
-#include "core/driver.hpp"
-#include "core/profile.hpp"
+#include "lab/benchmark.hpp"
+#include "core/run/driver.hpp"
+#include "core/run/profile.hpp"
 #include "support.hpp"
 
 namespace mps_lab::testing {

@@ -30,8 +30,8 @@
 #include <catch2/catch.hpp>
 #include <nlohmann/json.hpp>
 
-#include "core/diagnostics.hpp"
-#include "core/driver.hpp"
+#include "core/run/diagnostics.hpp"
+#include "core/run/driver.hpp"
 #include "support.hpp"
 
 namespace mps_lab::testing {

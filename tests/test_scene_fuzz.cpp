@@ -23,8 +23,8 @@
 #include <string>
 #include <vector>
 
-#include "core/error.hpp"
-#include "core/geometry.hpp"
+#include "core/base/error.hpp"
+#include "core/io/geometry.hpp"
 #include "support.hpp"
 
 using namespace mps_lab;

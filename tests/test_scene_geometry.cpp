@@ -3,8 +3,8 @@
 
 #include <catch2/catch.hpp>
 
-#include "core/error.hpp"
-#include "core/geometry.hpp"
+#include "core/base/error.hpp"
+#include "core/io/geometry.hpp"
 #include "support.hpp"
 
 using namespace mps_lab;

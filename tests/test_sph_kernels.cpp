@@ -1,7 +1,7 @@
-// SPH kernels (core/sph_kernels.hpp): normalisation, odd gradients, partition of unity.
+// SPH kernels (core/kernels/sph_kernels.hpp): normalisation, odd gradients, partition of unity.
 #include <catch2/catch.hpp>
 
-#include "core/sph_kernels.hpp"
+#include "core/kernels/sph_kernels.hpp"
 
 using namespace mps_lab;
 

@@ -15,8 +15,8 @@
 
 #include <catch2/catch.hpp>
 
-#include "core/driver.hpp"
-#include "core/stability.hpp"
+#include "core/run/driver.hpp"
+#include "core/run/stability.hpp"
 #include "support.hpp"
 
 using namespace mps_lab;

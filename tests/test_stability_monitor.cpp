@@ -1,4 +1,4 @@
-// The stability monitor on hand-made states (core/stability.hpp): each check fires at its
+// The stability monitor on hand-made states (core/run/stability.hpp): each check fires at its
 // threshold and not below it, "continue" records without stopping, a non-finite state
 // always stops, and escapes are told apart from wall penetrations.
 #include <cmath>
@@ -6,9 +6,9 @@
 
 #include <catch2/catch.hpp>
 
-#include "core/geometry.hpp"
-#include "core/method.hpp"
-#include "core/stability.hpp"
+#include "core/io/geometry.hpp"
+#include "core/run/method.hpp"
+#include "core/run/stability.hpp"
 #include "support.hpp"
 
 using namespace mps_lab;

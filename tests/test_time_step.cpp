@@ -1,8 +1,8 @@
-// core/time_step.hpp: the CFL rule, its bounds, the evened-out end, the clock and its checkpoint.
+// core/run/time_step.hpp: the CFL rule, its bounds, the evened-out end, the clock and its checkpoint.
 #include <catch2/catch.hpp>
 
-#include "core/checkpoint.hpp"
-#include "core/time_step.hpp"
+#include "core/io/checkpoint.hpp"
+#include "core/run/time_step.hpp"
 
 using namespace mps_lab;
 

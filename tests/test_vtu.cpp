@@ -10,9 +10,9 @@
 #include <regex>
 #include <set>
 
-#include "core/driver.hpp"
-#include "core/error.hpp"
-#include "core/output.hpp"
+#include "core/run/driver.hpp"
+#include "core/base/error.hpp"
+#include "core/io/output.hpp"
 #include "support.hpp"
 
 using namespace mps_lab;

@@ -9,9 +9,9 @@
 #include <string>
 #include <vector>
 
-#include "core/driver.hpp"
-#include "core/geometry.hpp"
-#include "core/wall_geometry.hpp"
+#include "core/run/driver.hpp"
+#include "core/io/geometry.hpp"
+#include "core/walls/wall_geometry.hpp"
 #include "support.hpp"
 
 using namespace mps_lab;

@@ -4,7 +4,7 @@
 // together with the fluid in the ISPH pressure system (one row per wall particle). The isph
 // method implements it (methods/isph/isph_pressure.hpp); this file declares it as the
 // boundary model isph uses by default.
-#include "core/wall_treatment.hpp"
+#include "core/walls/wall_treatment.hpp"
 
 namespace mps_lab {
 namespace {

@@ -3,7 +3,7 @@
 // pressure force that mirrors the fluid particle's pressure, as Bender & Koschier (2017) use
 // them in DFSPH. The dfsph method implements it (methods/dfsph/dfsph_operators.hpp) and reads
 // these parameters; this file declares it as the boundary model dfsph uses by default.
-#include "core/wall_treatment.hpp"
+#include "core/walls/wall_treatment.hpp"
 
 namespace mps_lab {
 namespace {

@@ -3,8 +3,8 @@
 // moves more than CFL l0 in a step.
 #include <cmath>
 
-#include "core/scene.hpp"
-#include "core/wall_treatment.hpp"
+#include "core/io/scene.hpp"
+#include "core/walls/wall_treatment.hpp"
 
 namespace mps_lab {
 namespace {

@@ -1,6 +1,6 @@
 // Distance-function (polygon) walls: no wall particles at all (docs/walls.md). The wall's part
 // of every operator sum of a fluid particle i is a function of i's distance d to each wall
-// segment (core/wall_geometry.hpp): the sum over a virtual wall that fills the half-plane
+// segment (core/walls/wall_geometry.hpp): the sum over a virtual wall that fills the half-plane
 // behind the segment with points on lattice rows parallel to it, at depths (k + 1/2) l0 / q
 // behind the surface and spaced l0 / q along it, placed relative to i's foot point on the
 // segment, each of volume 1/q^2 (q = quadrature points per spacing).
@@ -17,10 +17,10 @@
 // with the mirror of i's velocity (free slip).
 #include <cmath>
 
-#include "core/scene.hpp"
-#include "core/wall_geometry.hpp"
-#include "core/wall_sample_model.hpp"
-#include "core/wall_treatment.hpp"
+#include "core/io/scene.hpp"
+#include "core/walls/wall_geometry.hpp"
+#include "core/walls/wall_sample_model.hpp"
+#include "core/walls/wall_treatment.hpp"
 
 namespace mps_lab {
 namespace {

@@ -1,6 +1,6 @@
 // Dummy wall layers with extrapolated pressure (docs/walls.md). The wall is walls.layers
 // layers of fixed points on the lattice, where the wall particles of the spec would be (tank
-// sides and obstacles, core/geometry.hpp), but they are not particles of the simulation:
+// sides and obstacles, core/io/geometry.hpp), but they are not particles of the simulation:
 // each fluid particle i sees the points within the operator support as wall samples that
 // carry its own pressure extrapolated hydrostatically,
 //   p_w = p_i + rho0 g . (x_w - x_i),
@@ -8,12 +8,12 @@
 // generalised wall condition of Adami, Hu & Adams (2012, eq. 27) with the fluid sum reduced
 // to the particle itself. The wall is at rest (u_w = 0, no slip). No wall pressure is solved
 // for: the PPE keeps only fluid unknowns, the wall terms go to its right-hand side.
-#include "core/geometry.hpp"
-#include "core/point_grid.hpp"
-#include "core/wall_geometry.hpp"
-#include "core/scene.hpp"
-#include "core/wall_sample_model.hpp"
-#include "core/wall_treatment.hpp"
+#include "core/io/geometry.hpp"
+#include "core/search/point_grid.hpp"
+#include "core/walls/wall_geometry.hpp"
+#include "core/io/scene.hpp"
+#include "core/walls/wall_sample_model.hpp"
+#include "core/walls/wall_treatment.hpp"
 
 namespace mps_lab {
 namespace {

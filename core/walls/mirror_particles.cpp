@@ -1,7 +1,7 @@
 // Mirror (ghost) particles reflected across straight walls (docs/walls.md; Takeda, Miyama &
 // Sekiya 1994, Prog. Theor. Phys. 92, 939-960; Randles & Libersky 1996; for MPS e.g. Yildiz,
 // Rook & Suleman 2009). Each step every fluid particle j closer than the operator support to
-// a wall surface (core/wall_geometry.hpp) gets an image reflected across that surface,
+// a wall surface (core/walls/wall_geometry.hpp) gets an image reflected across that surface,
 //   x_j' = x_j - 2 d_j n      (d_j: distance to the surface, n: its normal into the fluid),
 // and, where j is near two perpendicular surfaces meeting at a corner, the image through the
 // corner, x_j'' = 2 c - x_j. An image counts only where it lies inside the solid. A fluid
@@ -12,10 +12,10 @@
 // The images are not particles of the simulation; the PPE couples i to j through them.
 #include <cmath>
 
-#include "core/scene.hpp"
-#include "core/wall_geometry.hpp"
-#include "core/wall_sample_model.hpp"
-#include "core/wall_treatment.hpp"
+#include "core/io/scene.hpp"
+#include "core/walls/wall_geometry.hpp"
+#include "core/walls/wall_sample_model.hpp"
+#include "core/walls/wall_treatment.hpp"
 
 namespace mps_lab {
 namespace {

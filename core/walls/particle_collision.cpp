@@ -10,8 +10,8 @@
 #include <cmath>
 #include <vector>
 
-#include "core/scene.hpp"
-#include "core/wall_treatment.hpp"
+#include "core/io/scene.hpp"
+#include "core/walls/wall_treatment.hpp"
 
 namespace mps_lab {
 namespace {

@@ -3,7 +3,7 @@
 // (pressure_layers, spec: 1) are unknowns of the PPE, the outer ones only fill the number
 // density. The mps method implements it in its operators (methods/mps/); this file declares
 // it as the boundary model mps uses by default.
-#include "core/wall_treatment.hpp"
+#include "core/walls/wall_treatment.hpp"
 
 namespace mps_lab {
 namespace {

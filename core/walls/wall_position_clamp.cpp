@@ -8,8 +8,8 @@
 #include <algorithm>
 #include <vector>
 
-#include "core/scene.hpp"
-#include "core/wall_treatment.hpp"
+#include "core/io/scene.hpp"
+#include "core/walls/wall_treatment.hpp"
 
 namespace mps_lab {
 namespace {

@@ -3,11 +3,11 @@
 //   overlap = 1 - r / r_rep,  a = C overlap^2,  v_i += dt a (x_i - x_j) / r,
 // summed over the wall neighbours. The spec gives C = 196.2 = 0.5 |g| / l0 at l0 = 0.025 m;
 // the parameter is the factor 0.5 so that C follows l0 in resolution studies. With a boundary
-// model of wall samples (core/wall_samples.hpp) the samples push as wall particles do.
+// model of wall samples (core/walls/wall_samples.hpp) the samples push as wall particles do.
 #include <cmath>
 
-#include "core/scene.hpp"
-#include "core/wall_treatment.hpp"
+#include "core/io/scene.hpp"
+#include "core/walls/wall_treatment.hpp"
 
 namespace mps_lab {
 namespace {

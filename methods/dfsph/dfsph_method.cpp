@@ -24,14 +24,14 @@
 #include <stdexcept>
 #include <string>
 
-#include "core/checkpoint.hpp"
-#include "core/error.hpp"
-#include "core/geometry.hpp"
-#include "core/method.hpp"
-#include "core/output.hpp"
-#include "core/profile.hpp"
-#include "core/scene.hpp"
-#include "core/time_step.hpp"
+#include "core/io/checkpoint.hpp"
+#include "core/base/error.hpp"
+#include "core/io/geometry.hpp"
+#include "core/run/method.hpp"
+#include "core/io/output.hpp"
+#include "core/run/profile.hpp"
+#include "core/io/scene.hpp"
+#include "core/run/time_step.hpp"
 #include "methods/dfsph/dfsph_operators.hpp"
 #include "methods/dfsph/dfsph_solvers.hpp"
 
@@ -401,12 +401,12 @@ class DfsphMethod final : public Method {
 
   const Scene& scene_;
   WallTreatmentSet walls_;
-  PhaseTimers* timers_;  // core/profile.hpp; null outside a run
+  PhaseTimers* timers_;  // core/run/profile.hpp; null outside a run
   PhaseTimers::Id search_phase_, operators_phase_, divergence_phase_, density_phase_, integration_phase_;
   SphKernel kernel_;
   double rest_density_ = 1000.0;   // kg/m^3
   double particle_mass_ = 0.0;     // kg/m
-  TimeStepSettings time_step_settings_;  // core/time_step.hpp
+  TimeStepSettings time_step_settings_;  // core/run/time_step.hpp
   SolverSettings density_settings_, divergence_settings_;
   bool divergence_enabled_ = true;
   std::uint32_t full_neighbour_count_ = 0;
@@ -487,7 +487,7 @@ void mps_lab_register_method_dfsph(mps_lab::MethodRegistry& registry) {
   const auto time_step_specs = time_step_parameters({"cfl", 0.4, 1.0e-4, 5.0e-3, "BK17: 0.4", "SPlisHSPlasH default"});
   info.parameters.insert(info.parameters.begin() + 2, time_step_specs.begin(), time_step_specs.end());
   info.default_wall_treatments = {"akinci_boundary"};
-  info.wall_samples = true;  // its operators sum over wall samples (core/wall_samples.hpp)
+  info.wall_samples = true;  // its operators sum over wall samples (core/walls/wall_samples.hpp)
   info.create = [](const MethodSetup& setup) { return std::make_unique<dfsph::DfsphMethod>(setup); };
   registry.add(std::move(info));
 }

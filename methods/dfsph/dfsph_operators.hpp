@@ -17,7 +17,7 @@
 // (v_b = 0), carry no unknown and take the pressure of the fluid particle they act on
 // (pressure mirroring, as in the authors' implementation).
 //
-// Wall samples (core/wall_samples.hpp: dummy_layers, mirror_particles, distance_function).
+// Wall samples (core/walls/wall_samples.hpp: dummy_layers, mirror_particles, distance_function).
 // When the boundary model puts no wall particles into the ParticleSet, every fluid particle i
 // has a list of wall samples w, and every sum below has a second part over them, in which a
 // sample is a boundary particle of mass Psi_w = rho0 V_w l0^2 (V_w: the sample's volume in
@@ -28,10 +28,10 @@
 #include <string>
 #include <vector>
 
-#include "core/neighbour_search.hpp"
-#include "core/particles.hpp"
-#include "core/sph_kernels.hpp"
-#include "core/wall_samples.hpp"
+#include "core/search/neighbour_search.hpp"
+#include "core/base/particles.hpp"
+#include "core/kernels/sph_kernels.hpp"
+#include "core/walls/wall_samples.hpp"
 
 namespace mps_lab::dfsph {
 
@@ -161,7 +161,7 @@ void compute_boundary_pressures(ParticleSet& particles, const SphSystem& system,
 // boundary particle).
 void count_active_neighbours(const ParticleSet& particles, const SphSystem& system, std::vector<double>& counts);
 
-// The hydrostatic part of the wall samples' pressure (core/wall_samples.hpp), as an explicit
+// The hydrostatic part of the wall samples' pressure (core/walls/wall_samples.hpp), as an explicit
 // acceleration: a_i -= sum_w Psi_w (rho0 g . (x_w - x_s)) / rho_s^2 grad W_iw. Optional
 // (methods.dfsph.wall_sample_hydrostatic, docs/methods/dfsph.md). No-op without samples.
 void add_sample_hydrostatic_acceleration(const ParticleSet& particles, const SphSystem& system,
@@ -169,7 +169,7 @@ void add_sample_hydrostatic_acceleration(const ParticleSet& particles, const Sph
                                          std::vector<Vec2>& acceleration);
 
 // (The lattice density of a fluid particle with full support is m lattice_kernel_sum, in
-// core/sph_kernels.hpp.)
+// core/kernels/sph_kernels.hpp.)
 // Points (i, j) != 0 of that lattice within the support: the full neighbour count.
 std::uint32_t lattice_neighbour_count(double support, double spacing);
 

@@ -19,12 +19,12 @@
 #include <cmath>
 #include <memory>
 
-#include "core/checkpoint.hpp"
-#include "core/geometry.hpp"
-#include "core/method.hpp"
-#include "core/output.hpp"
-#include "core/scene.hpp"
-#include "core/time_step.hpp"
+#include "core/io/checkpoint.hpp"
+#include "core/io/geometry.hpp"
+#include "core/run/method.hpp"
+#include "core/io/output.hpp"
+#include "core/io/scene.hpp"
+#include "core/run/time_step.hpp"
 #include "methods/isph/isph_operators.hpp"
 #include "methods/isph/isph_pressure.hpp"
 
@@ -105,7 +105,7 @@ class IsphMethod final : public Method {
     summation_density(particles, neighbours_, samples_, kernel_, mass_, rest_density_, particles.field("density"));
   }
 
-  // "fixed": the scene's step. "cfl" (core/time_step.hpp): v_max = max_i |u_i| + |g| dt_prev
+  // "fixed": the scene's step. "cfl" (core/run/time_step.hpp): v_max = max_i |u_i| + |g| dt_prev
   // over the fluid, the speed a particle can reach in the coming step under gravity (viscosity
   // only slows it; no per-particle acceleration is kept between steps). At rest v_max = 0
   // before the first step: the first step is max_time_step.
@@ -401,7 +401,7 @@ class IsphMethod final : public Method {
 
   const Scene& scene_;
   WallTreatmentSet walls_;
-  PhaseTimers* timers_;  // core/profile.hpp; null outside a run
+  PhaseTimers* timers_;  // core/run/profile.hpp; null outside a run
   PhaseTimers::Id search_phase_, operators_phase_, assembly_phase_, solve_phase_, integration_phase_;
   SphKernel kernel_;
   double rest_density_ = 1000.0;  // kg/m^3
@@ -430,7 +430,7 @@ class IsphMethod final : public Method {
   std::vector<double> rest_density_field_;  // rho0 for every particle
   bool use_summation_density_ = false;
   bool clamp_negative_pressure_ = true;
-  TimeStepSettings time_step_settings_;  // core/time_step.hpp
+  TimeStepSettings time_step_settings_;  // core/run/time_step.hpp
   TimeStepClock clock_;                  // simulated time, steps taken and the last step (CFL rule)
   long long total_iterations_ = 0;
   long long nonconverged_solves_ = 0;
@@ -449,7 +449,7 @@ void mps_lab_register_method_isph(mps_lab::MethodRegistry& registry) {
       "incompressible SPH by projection (Cummins & Rudman 1999; Shao & Lo 2003; Asai et al. 2012 source): "
       "fluid + Adami-wall (or wall-sample) PPE by BiCGSTAB";
   info.parameters = {
-      string_parameter("kernel", "cubic_spline", "SPH kernel (core/sph_kernels.hpp)")
+      string_parameter("kernel", "cubic_spline", "SPH kernel (core/kernels/sph_kernels.hpp)")
           .one_of({"cubic_spline", "wendland_c2"}),
       number_parameter("smoothing_length", 1.2, "l0",
                        "h; the kernel support is 2h for both kernels (<= 3 l0 = the wall)")

@@ -1,14 +1,14 @@
 #pragma once
 // The SPH operators of the ISPH method, as free functions over a ParticleSet and a
 // neighbour list. 2-D; every particle (fluid and wall) has the same mass m; r_ij = x_i - x_j
-// and grad W_ij = grad_i W(|r_ij|) (core/sph_kernels.hpp). Ghost particles are skipped
+// and grad W_ij = grad_i W(|r_ij|) (core/kernels/sph_kernels.hpp). Ghost particles are skipped
 // wherever they appear (a list built before a particle became a ghost may still hold it).
 //
 // `density` holds, per particle, the density the operators use: the method passes rho0 for
 // every particle (default) or the summation density rho* of fluid particles and rho0 for
 // walls (parameter operator_density = summation, as Shao & Lo 2003).
 //
-// Wall samples (core/wall_samples.hpp): with a boundary model that has no wall particles
+// Wall samples (core/walls/wall_samples.hpp): with a boundary model that has no wall particles
 // (dummy_layers, mirror_particles, distance_function) every operator adds, beside its sum over
 // the neighbours j of i, the same sum over the samples w of i: a sample is a particle of mass
 // m V_w and density rho0 at x_w, with velocity u_w = M_w u_s and pressure
@@ -29,10 +29,10 @@
 #include <string>
 #include <vector>
 
-#include "core/neighbour_search.hpp"
-#include "core/particles.hpp"
-#include "core/sph_kernels.hpp"
-#include "core/wall_samples.hpp"
+#include "core/search/neighbour_search.hpp"
+#include "core/base/particles.hpp"
+#include "core/kernels/sph_kernels.hpp"
+#include "core/walls/wall_samples.hpp"
 
 namespace mps_lab::isph {
 
@@ -42,7 +42,7 @@ inline const WallSampleList& no_wall_samples() {
   return empty;
 }
 
-// The particle mass is m = rho0 / lattice_kernel_sum (core/sph_kernels.hpp): the summation
+// The particle mass is m = rho0 / lattice_kernel_sum (core/kernels/sph_kernels.hpp): the summation
 // density of a particle with full support on the initial lattice is exactly rho0 (the SPH
 // counterpart of MPS's n0).
 

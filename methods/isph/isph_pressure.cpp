@@ -3,8 +3,8 @@
 #include <cmath>
 #include <stdexcept>
 
-#include "core/amg.hpp"
-#include "core/pressure_system.hpp"
+#include "core/linalg/amg.hpp"
+#include "core/linalg/pressure_system.hpp"
 #include "methods/isph/isph_operators.hpp"
 
 namespace mps_lab::isph {
@@ -17,7 +17,7 @@ constexpr int kIncompleteLuBlocks = 2;
 
 std::unique_ptr<Preconditioner> make_preconditioner(PreconditionerKind kind) {
   if (kind == PreconditionerKind::IncompleteLu) return std::make_unique<IncompleteLuPreconditioner>(kIncompleteLuBlocks);
-  if (kind == PreconditionerKind::Amg) return std::make_unique<AmgPreconditioner>();  // core/amg.hpp
+  if (kind == PreconditionerKind::Amg) return std::make_unique<AmgPreconditioner>();  // core/linalg/amg.hpp
   return std::make_unique<JacobiPreconditioner>();
 }
 
@@ -176,7 +176,7 @@ PressureSolveResult PressurePoissonSolver::assemble(ParticleSet& particles, cons
   if (particle_of_.empty()) return result;
 
   assemble_rows(particles, neighbours, samples, kernel, density, source, settings);
-  // A group of unknowns with no Dirichlet row (core/pressure_system.hpp) has a singular block:
+  // A group of unknowns with no Dirichlet row (core/linalg/pressure_system.hpp) has a singular block:
   // fluid rows sum to zero and wall rows are weighted averages. As in the mps method (and the
   // public MPS-Basic code) the diagonal of such a group's fluid rows is doubled, which pins its
   // pressure level near zero.
@@ -197,7 +197,7 @@ void PressurePoissonSolver::solve_assembled(ParticleSet& particles, const Pressu
   gather_unknowns(particles.pressure, particle_of_, settings.warm_start, solution_);
 
   // BiCGSTAB until the recomputed residual ||b - A x|| / ||b|| is below the tolerance or the
-  // iteration budget is spent (core/krylov.hpp restarts when the recurrence residual drifts).
+  // iteration budget is spent (core/linalg/krylov.hpp restarts when the recurrence residual drifts).
   KrylovSettings krylov;
   krylov.tolerance = settings.tolerance;
   krylov.max_iterations = settings.max_iterations;

@@ -15,7 +15,7 @@
 // the fluid pressure around it plus the hydrostatic head between them, which is the pressure
 // a wall must carry for the fluid next to it to have no wall-normal acceleration.
 //
-// Wall samples (core/wall_samples.hpp; boundary models without wall particles, then there are
+// Wall samples (core/walls/wall_samples.hpp; boundary models without wall particles, then there are
 // no wall rows): fluid row i also sums a_iw (p_i - p_w) over its samples w, a_iw the pair
 // coefficient with mass m V_w and density rho0, p_w = p_s + rho0 g . (x_w - x_s):
 //   s = i (dummy layers, distance function): the p terms cancel, a_iw rho0 g . (x_w - x_i)
@@ -26,8 +26,8 @@
 //
 // Every row is scaled to pascals (fluid rows by rho0 l0^2, wall rows by 1 / sum_f W_wf), so the
 // relative residual ||b - A p|| / ||b|| weighs all rows alike. The wall rows make A
-// non-symmetric: BiCGSTAB (core/krylov.hpp) with a diagonal or incomplete-LU preconditioner.
-// The matrix is assembled straight into compressed rows (core/sparse_matrix.hpp), rows in
+// non-symmetric: BiCGSTAB (core/linalg/krylov.hpp) with a diagonal or incomplete-LU preconditioner.
+// The matrix is assembled straight into compressed rows (core/linalg/sparse_matrix.hpp), rows in
 // parallel, into storage kept from step to step.
 #include <memory>
 #include <string>
@@ -35,11 +35,11 @@
 
 #include <Eigen/Sparse>
 
-#include "core/krylov.hpp"
-#include "core/neighbour_search.hpp"
-#include "core/particles.hpp"
-#include "core/sph_kernels.hpp"
-#include "core/wall_samples.hpp"
+#include "core/linalg/krylov.hpp"
+#include "core/search/neighbour_search.hpp"
+#include "core/base/particles.hpp"
+#include "core/kernels/sph_kernels.hpp"
+#include "core/walls/wall_samples.hpp"
 
 namespace mps_lab::isph {
 

@@ -11,11 +11,11 @@
 #include <cmath>
 #include <memory>
 
-#include "core/checkpoint.hpp"
-#include "core/geometry.hpp"
-#include "core/method.hpp"
-#include "core/output.hpp"
-#include "core/scene.hpp"
+#include "core/io/checkpoint.hpp"
+#include "core/io/geometry.hpp"
+#include "core/run/method.hpp"
+#include "core/io/output.hpp"
+#include "core/io/scene.hpp"
 #include "methods/mps/mps_operators.hpp"
 #include "methods/mps/mps_pressure.hpp"
 
@@ -254,7 +254,7 @@ class MpsMethod final : public Method {
 
   const Scene& scene_;
   WallTreatmentSet walls_;
-  PhaseTimers* timers_;  // core/profile.hpp; null outside a run
+  PhaseTimers* timers_;  // core/run/profile.hpp; null outside a run
   PhaseTimers::Id search_phase_, operators_phase_, assembly_phase_, solve_phase_, integration_phase_;
   OperatorRadius density_radius_, gradient_radius_, laplacian_radius_;
   double search_radius_ = 0.0;

@@ -5,10 +5,10 @@
 // spec's single re = 2.1 l0 and the larger Laplacian radius of K&O 1996 are both expressible.
 #include <vector>
 
-#include "core/kernels.hpp"
-#include "core/neighbour_search.hpp"
-#include "core/particles.hpp"
-#include "core/wall_samples.hpp"
+#include "methods/mps/mps_kernels.hpp"
+#include "core/search/neighbour_search.hpp"
+#include "core/base/particles.hpp"
+#include "core/walls/wall_samples.hpp"
 
 namespace mps_lab::mps {
 
@@ -24,7 +24,7 @@ struct OperatorRadius {
 OperatorRadius make_operator_radius(double spacing, double re, double r_min);
 
 // Every operator also sums over the wall samples of i when the boundary model has them
-// (core/wall_samples.hpp; an empty list adds nothing): a sample is a neighbour of volume V_w
+// (core/walls/wall_samples.hpp; an empty list adds nothing): a sample is a neighbour of volume V_w
 // (its weight counts V_w times), velocity u_w and pressure p_w.
 
 // n_i = sum_j w(|r_j - r_i|, re) + sum_w V_w w(|r_w - r_i|, re) over every non-ghost

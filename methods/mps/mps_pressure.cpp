@@ -2,8 +2,8 @@
 
 #include <stdexcept>
 
-#include "core/amg.hpp"
-#include "core/pressure_system.hpp"
+#include "core/linalg/amg.hpp"
+#include "core/linalg/pressure_system.hpp"
 
 namespace mps_lab::mps {
 
@@ -18,7 +18,7 @@ constexpr int kIncompleteCholeskyBlocks = 2;
 std::unique_ptr<Preconditioner> make_preconditioner(const std::string& name) {
   if (name == "jacobi") return std::make_unique<JacobiPreconditioner>();
   if (name == "incomplete_cholesky") return std::make_unique<IncompleteLuPreconditioner>(kIncompleteCholeskyBlocks);
-  if (name == "amg") return std::make_unique<AmgPreconditioner>();  // core/amg.hpp, smoothed aggregation
+  if (name == "amg") return std::make_unique<AmgPreconditioner>();  // core/linalg/amg.hpp, smoothed aggregation
   throw std::invalid_argument("unknown preconditioner '" + name + "' (expected jacobi, incomplete_cholesky or amg)");
 }
 
@@ -115,7 +115,7 @@ PressureSolveResult PressurePoissonSolver::assemble(ParticleSet& particles, cons
   }
   assembler_.finish(matrix_, /*diagonal_first=*/true);
 
-  // A group of unknowns with no Dirichlet row (core/pressure_system.hpp) makes A singular
+  // A group of unknowns with no Dirichlet row (core/linalg/pressure_system.hpp) makes A singular
   // (pressure defined up to a constant). The remedy of the public MPS-Basic code (Kondo lab)
   // is kept: double the diagonal of such a group's rows, which pins its mean pressure near zero.
   result.ungrounded_groups = pin_ungrounded_groups(matrix_, grounded_, particle_of_.size());

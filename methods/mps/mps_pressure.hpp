@@ -7,9 +7,9 @@
 // it). Free-surface particles (n*_i < threshold n0) have P = 0 (Dirichlet, spec §7); the
 // others are unknowns. Written as A p = b with A_ii = sum_j a_ij, A_ij = -a_ij, the matrix
 // is symmetric and, where every connected group of unknowns touches a Dirichlet particle,
-// positive definite: conjugate gradients apply (core/krylov.hpp).
+// positive definite: conjugate gradients apply (core/linalg/krylov.hpp).
 //
-// The matrix is assembled straight into compressed rows (core/sparse_matrix.hpp), rows in
+// The matrix is assembled straight into compressed rows (core/linalg/sparse_matrix.hpp), rows in
 // parallel, into storage kept from step to step.
 #include <memory>
 #include <string>
@@ -17,10 +17,10 @@
 
 #include <Eigen/Sparse>
 
-#include "core/krylov.hpp"
-#include "core/neighbour_search.hpp"
-#include "core/particles.hpp"
-#include "core/sparse_matrix.hpp"
+#include "core/linalg/krylov.hpp"
+#include "core/search/neighbour_search.hpp"
+#include "core/base/particles.hpp"
+#include "core/linalg/sparse_matrix.hpp"
 #include "methods/mps/mps_operators.hpp"
 
 namespace mps_lab::mps {
@@ -38,7 +38,7 @@ struct PressureSolveSettings {
 };
 
 // The CG preconditioner called `name`: "jacobi" (diagonal) or "incomplete_cholesky" (IC(0)
-// on two fixed row blocks, core/krylov.hpp). Throws std::invalid_argument for another name.
+// on two fixed row blocks, core/linalg/krylov.hpp). Throws std::invalid_argument for another name.
 std::unique_ptr<Preconditioner> make_preconditioner(const std::string& name);
 
 struct PressureSolveResult {
@@ -56,7 +56,7 @@ class PressurePoissonSolver {
   // P = 0 for surface particles; fills unknowns, surface and ungrounded_groups of the result.
   // `n0` is the number-density constant of the source term, `laplacian` the radius and
   // constants of the Laplacian model.
-  // Wall samples (core/wall_samples.hpp) add a_iw (p_s + rho g.(x_w - x_s) - p_i) to the
+  // Wall samples (core/walls/wall_samples.hpp) add a_iw (p_s + rho g.(x_w - x_s) - p_i) to the
   // Laplacian of row i: for s = i only the known hydrostatic part remains (right-hand side),
   // for a mirror image of j the row couples to j (symmetric: the image of i seen from j has
   // the same weight), and a Dirichlet source leaves its constant part.

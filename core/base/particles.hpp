@@ -1,0 +1,37 @@
+#pragma once
+// Particle storage: structure of arrays, no fixed particle or neighbour limits.
+// Core fields every method shares (position, velocity, pressure, type, wall layer) plus
+// named scalar fields that a method declares (e.g. "number_density"); declared fields can
+// be written to the VTK frames.
+#include <cstddef>
+#include <cstdint>
+#include <map>
+#include <string>
+#include <vector>
+
+#include "core/base/types.hpp"
+
+namespace mps_lab {
+
+struct ParticleSet {
+  std::vector<Vec2> position;          // m
+  std::vector<Vec2> velocity;          // m/s
+  std::vector<double> pressure;        // Pa
+  std::vector<ParticleType> type;
+  // 0 for fluid; for walls, 1 = the layer facing the fluid, 2, 3, ... = outer layers
+  // (Chebyshev distance from the fluid region in units of l0, plus one).
+  std::vector<std::uint8_t> wall_layer;
+  // Method-declared per-particle scalars, keyed by name (std::map: references stay valid).
+  std::map<std::string, std::vector<double>> scalar_fields;
+
+  std::size_t size() const { return position.size(); }
+  void add(const Vec2& x, const Vec2& v, ParticleType kind, std::uint8_t layer = 0);
+  std::size_t count(ParticleType kind) const;
+
+  // Adds (zero-filled) or returns a declared scalar field.
+  std::vector<double>& add_field(const std::string& name);
+  std::vector<double>& field(const std::string& name);
+  const std::vector<double>& field(const std::string& name) const;
+};
+
+}  // namespace mps_lab

@@ -1,0 +1,195 @@
+#include "core/io/geometry.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <set>
+#include <string>
+#include <utility>
+
+#include "core/base/error.hpp"
+
+namespace mps_lab {
+
+namespace {
+
+std::string describe_point(const Vec2& point) { return describe_json(nlohmann::json::array({point.x(), point.y()})); }
+
+long long whole_spacings(double length, double l0, const Scene& scene, const std::string& what) {
+  const double count = length / l0;
+  const double rounded = std::round(count);
+  if (std::fabs(count - rounded) > 1e-6 * std::max(1.0, count)) {
+    throw_input_error(scene.source, "particle_spacing",
+                      "got " + describe_json(l0) + ", expected a spacing that divides the domain " + what + " (" +
+                          describe_json(length) + " m) a whole number of times; walls must close on the lattice");
+  }
+  return static_cast<long long>(rounded);
+}
+
+// Spec §4 note: fluid particles are the lattice points strictly inside a block.
+bool strictly_inside(double coordinate, double low, double high, double eps) {
+  return coordinate > low + eps && coordinate < high - eps;
+}
+
+// Whether some lattice coordinate origin + k l0 lies strictly inside (low, high).
+bool lattice_coordinate_inside(double origin, double low, double high, double l0) {
+  const auto first = static_cast<long long>(std::floor((low - origin) / l0)) - 1;
+  const auto last = static_cast<long long>(std::ceil((high - origin) / l0)) + 1;
+  for (long long k = first; k <= last; ++k) {
+    if (strictly_inside(origin + static_cast<double>(k) * l0, low, high, 1e-9 * l0)) return true;
+  }
+  return false;
+}
+
+[[noreturn]] void throw_empty_block(const Scene& scene, std::size_t k) {
+  const Box& box = scene.fluid_blocks[k].region;
+  throw_input_error(scene.source, "fluid_blocks[" + std::to_string(k) + "]",
+                    "got min " + describe_point(box.min) + " and max " + describe_point(box.max) +
+                        ", expected a block holding at least one lattice point strictly inside at particle_spacing " +
+                        describe_json(scene.particle_spacing) + " m");
+}
+
+}  // namespace
+
+void check_lattice(const Scene& scene) {
+  const double l0 = scene.particle_spacing;
+  const Vec2 origin = scene.domain.min;
+  whole_spacings(scene.domain.max.x() - origin.x(), l0, scene, "width");
+  whole_spacings(scene.domain.max.y() - origin.y(), l0, scene, "height");
+  for (std::size_t k = 0; k < scene.fluid_blocks.size(); ++k) {
+    const Box& box = scene.fluid_blocks[k].region;
+    if (!lattice_coordinate_inside(origin.x(), box.min.x(), box.max.x(), l0) ||
+        !lattice_coordinate_inside(origin.y(), box.min.y(), box.max.y(), l0)) {
+      throw_empty_block(scene, k);
+    }
+  }
+}
+
+ParticleSet build_particles(const Scene& scene, bool wall_particles) {
+  const double l0 = scene.particle_spacing;
+  const Vec2 origin = scene.domain.min;
+  const long long nx = whole_spacings(scene.domain.max.x() - origin.x(), l0, scene, "width");
+  const long long ny = whole_spacings(scene.domain.max.y() - origin.y(), l0, scene, "height");
+  const TankWalls& walls = scene.walls;
+  const long long layers = walls.layers;
+  const auto lattice = [&](long long i, long long j) {
+    return Vec2(origin.x() + static_cast<double>(i) * l0, origin.y() + static_cast<double>(j) * l0);
+  };
+
+  ParticleSet particles;
+
+  // Obstacles in lattice indices (their corners are lattice points: the scene loader checks).
+  struct LatticeBox {
+    long long i0, j0, i1, j1;
+  };
+  std::vector<LatticeBox> obstacles;
+  for (const Box& box : scene.walls.obstacles) {
+    obstacles.push_back({std::llround((box.min.x() - origin.x()) / l0), std::llround((box.min.y() - origin.y()) / l0),
+                         std::llround((box.max.x() - origin.x()) / l0), std::llround((box.max.y() - origin.y()) / l0)});
+  }
+  const auto in_obstacle = [&](long long i, long long j) {
+    for (const auto& b : obstacles) {
+      if (i >= b.i0 && i <= b.i1 && j >= b.j0 && j <= b.j1) return true;
+    }
+    return false;
+  };
+
+  // Fluid first: lattice points strictly inside any block (blocks may overlap), outside the
+  // obstacles (an obstacle's lattice points are wall).
+  std::set<std::pair<long long, long long>> fluid_points;
+  const double eps = 1e-9 * l0;
+  for (std::size_t k = 0; k < scene.fluid_blocks.size(); ++k) {
+    const auto& block = scene.fluid_blocks[k];
+    const auto i_first = static_cast<long long>(std::floor((block.region.min.x() - origin.x()) / l0)) - 1;
+    const auto i_last = static_cast<long long>(std::ceil((block.region.max.x() - origin.x()) / l0)) + 1;
+    const auto j_first = static_cast<long long>(std::floor((block.region.min.y() - origin.y()) / l0)) - 1;
+    const auto j_last = static_cast<long long>(std::ceil((block.region.max.y() - origin.y()) / l0)) + 1;
+    std::size_t inside = 0;
+    for (long long j = j_first; j <= j_last; ++j) {
+      for (long long i = i_first; i <= i_last; ++i) {
+        const Vec2 x = lattice(i, j);
+        if (strictly_inside(x.x(), block.region.min.x(), block.region.max.x(), eps) &&
+            strictly_inside(x.y(), block.region.min.y(), block.region.max.y(), eps)) {
+          ++inside;
+          if (in_obstacle(i, j)) continue;
+          if (fluid_points.insert({j, i}).second) {
+            particles.add(x, block.velocity, ParticleType::Fluid);
+          }
+        }
+      }
+    }
+    if (inside == 0) throw_empty_block(scene, k);
+  }
+  if (!wall_particles) return particles;  // the boundary model builds its own wall (wall samples)
+
+  // Walls. Layer = 1 + how many spacings the point lies outside the fluid region along
+  // the walled directions (Chebyshev distance), so corner blocks belong to outer layers.
+  const auto layer_of = [&](long long i, long long j) {
+    long long outside = 0;
+    if (walls.left) outside = std::max(outside, -i);
+    if (walls.right) outside = std::max(outside, i - nx);
+    if (walls.bottom) outside = std::max(outside, -j);
+    if (walls.top) outside = std::max(outside, j - ny);
+    return static_cast<std::uint8_t>(1 + outside);
+  };
+  const long long i_min = walls.left ? -(layers - 1) : 0;
+  const long long i_max = walls.right ? nx + layers - 1 : nx;
+  std::set<std::pair<long long, long long>> wall_points;
+  const auto add_wall_in_layer = [&](long long i, long long j, std::uint8_t layer) {
+    if (fluid_points.count({j, i}) != 0) return;  // a block reaching the wall keeps its fluid
+    if (!wall_points.insert({j, i}).second) return;
+    particles.add(lattice(i, j), Vec2::Zero(), ParticleType::Wall, layer);
+  };
+  const auto add_wall = [&](long long i, long long j) { add_wall_in_layer(i, j, layer_of(i, j)); };
+  if (walls.bottom) {
+    for (long long k = 0; k < layers; ++k) {
+      for (long long i = i_min; i <= i_max; ++i) add_wall(i, -k);
+    }
+  }
+  const long long j_first = walls.bottom ? 1 : 0;
+  const long long j_last = ny - 1;
+  for (long long j = j_first; j <= j_last; ++j) {
+    for (long long k = 0; k < layers; ++k) {
+      if (walls.left) add_wall(-k, j);
+      if (walls.right) add_wall(nx + k, j);
+    }
+  }
+  if (walls.top) {
+    for (long long k = 0; k < layers; ++k) {
+      for (long long i = i_min; i <= i_max; ++i) add_wall(i, ny + k);
+    }
+  }
+  // Obstacles: `layers` layers from the box sides inwards (layer 1 on the sides), the core of
+  // a thick box left empty as the outer tank layers end; points the tank walls hold are theirs.
+  for (const auto& b : obstacles) {
+    for (long long j = b.j0; j <= b.j1; ++j) {
+      for (long long i = b.i0; i <= b.i1; ++i) {
+        const long long inward = std::min({i - b.i0, b.i1 - i, j - b.j0, b.j1 - j});
+        if (inward < layers) add_wall_in_layer(i, j, static_cast<std::uint8_t>(1 + inward));
+      }
+    }
+  }
+  return particles;
+}
+
+double escape_margin(const Scene& scene) { return scene.particle_spacing * (scene.walls.layers + 1); }
+
+std::size_t mark_escaped_as_ghosts(ParticleSet& particles, const Scene& scene) {
+  const double margin = escape_margin(scene);
+  const Vec2 low = scene.domain.min - Vec2(margin, margin);
+  const Vec2 high = scene.domain.max + Vec2(margin, margin);
+  std::size_t escaped = 0;
+  for (std::size_t i = 0; i < particles.size(); ++i) {
+    if (particles.type[i] != ParticleType::Fluid) continue;
+    const Vec2& x = particles.position[i];
+    const bool finite = std::isfinite(x.x()) && std::isfinite(x.y());
+    if (!finite || x.x() < low.x() || x.y() < low.y() || x.x() > high.x() || x.y() > high.y()) {
+      particles.type[i] = ParticleType::Ghost;
+      particles.velocity[i] = Vec2::Zero();
+      particles.pressure[i] = 0.0;
+      ++escaped;
+    }
+  }
+  return escaped;
+}
+
+}  // namespace mps_lab

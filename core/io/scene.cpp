@@ -1,0 +1,610 @@
+#include "core/io/scene.hpp"
+
+#include <cctype>
+#include <cerrno>
+#include <cmath>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include "core/base/error.hpp"
+#include "core/io/geometry.hpp"
+#include "core/run/method.hpp"
+
+namespace mps_lab {
+
+namespace {
+
+// Nominal limits beyond which a scene is "far outside what was tested" (spec §3 note:
+// the original C code had 10000 particles and 256 neighbours as fixed arrays).
+constexpr double kLargestLatticePoints = 5.0e7;
+// A run of more steps than this (end_time / time_step) is a typo, not an experiment: at the
+// fastest measured 0.1 ms per step it would take 12 days; 1e308 s would never end.
+constexpr double kMostTimeSteps = 1.0e10;
+// An output interval this much shorter than the time step is a typo (it would mean "every
+// step", which frame_every_steps = 1 says); the driver steps its next output time by the
+// interval, so 1e-300 s would loop for ever.
+constexpr double kShortestIntervalInSteps = 1.0e-3;
+// A scene nests 5 levels deep; anything deeper is refused while parsing, before a deep
+// value is printed or copied (both recurse once per level and could exhaust the stack).
+constexpr int kDeepestNesting = 32;
+
+std::vector<ParameterSpec> top_level_keys() {
+  return {
+      string_parameter("description", "", "free text describing the scene and its source"),
+      number_parameter("particle_spacing", 0.025, "m", "initial particle spacing l0 (spec §3)").above(0.0),
+      string_parameter("method", "mps", "method used when the command line does not name one"),
+  };
+}
+
+std::vector<ParameterSpec> domain_keys() {
+  return {
+      vector2_parameter("min", Vec2::Zero(), "m", "lower-left corner; first wall layers lie on the box").mandatory(),
+      vector2_parameter("max", Vec2::Zero(), "m", "upper-right corner").mandatory(),
+  };
+}
+
+std::vector<ParameterSpec> wall_keys() {
+  return {
+      string_list_parameter("sides", {"bottom", "left", "right"}, "sides of the domain box that are walls")
+          .one_of({"bottom", "left", "right", "top"}),
+      integer_parameter("layers", 3, "wall particle layers per wall (spec §3)").at_least(1).at_most(10),
+  };
+}
+
+std::vector<ParameterSpec> obstacle_keys() {
+  return {
+      vector2_parameter("min", Vec2::Zero(), "m", "lower-left corner: a lattice point inside the domain").mandatory(),
+      vector2_parameter("max", Vec2::Zero(), "m", "upper-right corner: a lattice point inside the domain").mandatory(),
+  };
+}
+
+std::vector<ParameterSpec> fluid_block_keys() {
+  return {
+      vector2_parameter("min", Vec2::Zero(), "m", "lower-left corner of the water region").mandatory(),
+      vector2_parameter("max", Vec2::Zero(), "m", "upper-right corner of the water region").mandatory(),
+      vector2_parameter("velocity", Vec2::Zero(), "m/s", "initial velocity of the block"),
+  };
+}
+
+std::vector<ParameterSpec> physics_keys() {
+  return {
+      number_parameter("density", 1000.0, "kg/m^3", "fluid density rho (spec §3)").above(0.0),
+      number_parameter("kinematic_viscosity", 1.0e-6, "m^2/s", "kinematic viscosity nu (spec §3)").at_least(0.0),
+      vector2_parameter("gravity", Vec2(0.0, -9.81), "m/s^2", "gravitational acceleration (spec §3)"),
+  };
+}
+
+std::vector<ParameterSpec> time_keys() {
+  return {
+      number_parameter("time_step", 5.0e-4, "s", "time step dt (spec §3); initial and largest step of adaptive methods")
+          .above(0.0),
+      number_parameter("end_time", 2.0, "s", "simulated time T_end (spec §3)").at_least(0.0),
+  };
+}
+
+std::vector<ParameterSpec> output_keys() {
+  return {
+      string_parameter("directory", "output", "output folder, relative to the working directory"),
+      integer_parameter("frame_every_steps", 100, "write a CSV/VTK frame every N steps (spec §3)").at_least(1),
+      integer_parameter("series_every_steps", 10, "write a row of series.csv every N steps").at_least(1),
+      number_parameter("frame_interval", 0.0, "s",
+                       "also write a frame at the first step at or after every multiple of this time (0: off)")
+          .at_least(0.0),
+      number_parameter("series_interval", 0.0, "s",
+                       "also write a series row at the first step at or after every multiple of this time (0: off)")
+          .at_least(0.0),
+      string_list_parameter("formats", {"csv", "vtk"}, "frame formats (vtu: VTK XML binary, for large runs)")
+          .one_of({"csv", "vtk", "vtu"}),
+      integer_parameter("checkpoint_every_steps", 0,
+                        "write the full state to checkpoint.bin every N steps, for `mps_lab resume` (0: off)")
+          .at_least(0),
+  };
+}
+
+std::vector<ParameterSpec> diagnostics_keys() {
+  return {
+      number_parameter("front_link_distance", 1.5, "l0",
+                       "fluid particles closer than this are one body of water (front and height ignore "
+                       "detached drops)")
+          .above(0.0),
+      number_parameter("height_probe_width", 1.5, "l0",
+                       "water height is measured on particles within this distance of the back-wall surface")
+          .above(0.0),
+      number_parameter("density_support", 2.4, "l0",
+                       "support of the cubic-spline kernel of the method-independent density error")
+          .above(1.0)
+          .at_most(4.0),
+  };
+}
+
+std::vector<ParameterSpec> pressure_sensor_keys() {
+  return {
+      string_parameter("name", "", "sensor name; series.csv gets a column pressure_<name>").mandatory(),
+      vector2_parameter("position", Vec2::Zero(), "m", "sensor point").mandatory(),
+  };
+}
+
+std::string join(const std::vector<std::string>& items) {
+  std::string text;
+  for (const auto& item : items) text += (text.empty() ? "" : ", ") + item;
+  return text;
+}
+
+std::string describe_point(const Vec2& point) { return describe_json(nlohmann::json::array({point.x(), point.y()})); }
+
+bool inside_box(const Vec2& point, const Box& box, double tolerance) {
+  return point.x() >= box.min.x() - tolerance && point.y() >= box.min.y() - tolerance &&
+         point.x() <= box.max.x() + tolerance && point.y() <= box.max.y() + tolerance;
+}
+
+// Parses JSON text with two checks nlohmann does not make: nesting deeper than
+// kDeepestNesting, and a key given twice in one object (nlohmann keeps the later value
+// without a word). Those are InputErrors naming `key_prefix` + the path inside the text;
+// invalid JSON throws nlohmann::json::exception for the caller to word.
+nlohmann::json parse_json(const std::string& text, const std::string& source, const std::string& key_prefix) {
+  struct Level {
+    bool is_object = false;
+    std::set<std::string> keys;  // objects: keys seen so far
+    std::string key;             // objects: the current key
+    long index = -1;             // arrays: the current element
+  };
+  std::vector<Level> levels;
+  const auto path_of = [&]() {
+    std::string path = key_prefix;
+    for (const auto& level : levels) {
+      if (!level.is_object) {
+        path += "[" + std::to_string(level.index) + "]";
+      } else if (!level.key.empty()) {
+        path += (path.empty() ? "" : ".") + level.key;
+      }
+    }
+    return path;
+  };
+  using Event = nlohmann::json::parse_event_t;
+  const auto check = [&](int depth, Event event, nlohmann::json& parsed) {
+    const bool starts = event == Event::object_start || event == Event::array_start;
+    if ((starts || event == Event::value) && !levels.empty() && !levels.back().is_object) ++levels.back().index;
+    if (starts) {
+      if (depth >= kDeepestNesting) {
+        std::string path = path_of();  // "description[0][0]...[0]" is named "description"
+        while (!path.empty() && path.back() == ']') path.erase(path.rfind('['));
+        throw_input_error(source, path, "got values nested deeper than " + std::to_string(kDeepestNesting) +
+                                                   " levels, expected at most the 5 of a scene");
+      }
+      levels.push_back({event == Event::object_start, {}, {}, -1});
+    } else if (event == Event::object_end || event == Event::array_end) {
+      levels.pop_back();
+    } else if (event == Event::key) {
+      const std::string& key = parsed.get_ref<const std::string&>();
+      levels.back().key = key;
+      if (!levels.back().keys.insert(key).second) {
+        throw_input_error(source, path_of(), "given twice in one object, expected each key once");
+      }
+    }
+    return true;
+  };
+  return nlohmann::json::parse(text, check);
+}
+
+const nlohmann::json& block_or_null(const nlohmann::json& document, const std::string& key) {
+  static const nlohmann::json null_value;  // immutable
+  return document.contains(key) ? document.at(key) : null_value;
+}
+
+std::vector<WallTreatmentChoice> resolve_wall_treatments(const MethodInfo& method, const nlohmann::json& block,
+                                                         const WallTreatmentRegistry& registry,
+                                                         const std::string& source, const std::string& path) {
+  if (!block.is_null() && !block.is_object()) {
+    throw_input_error(source, path, "got " + describe_json(block) + ", expected an object of wall treatments");
+  }
+  std::vector<WallTreatmentChoice> choices;
+  // A boundary model the scene names and enables replaces the method's default one.
+  bool names_boundary = false;
+  if (block.is_object()) {
+    for (const auto& [name, settings] : block.items()) {
+      const WallTreatmentInfo* info = registry.find(name);
+      const bool off = settings.is_object() && settings.contains("enabled") && settings.at("enabled") == false;
+      if (info != nullptr && info->role == WallTreatmentRole::Boundary && !off) names_boundary = true;
+    }
+  }
+  // Treatments the scene names.
+  if (block.is_object()) {
+    for (const auto& [name, settings] : block.items()) {
+      const WallTreatmentInfo* info = registry.find(name);
+      if (info == nullptr) {
+        std::vector<std::string> known;
+        for (const auto* entry : registry.all()) known.push_back(entry->name);
+        throw_input_error(source, path + "." + name, "unknown wall treatment (expected one of: " + join(known) + ")");
+      }
+      if (!settings.is_object()) {
+        throw_input_error(source, path + "." + name, "got " + describe_json(settings) + ", expected an object");
+      }
+    }
+  }
+  for (const auto* info : registry.all()) {
+    const bool named = block.is_object() && block.contains(info->name);
+    bool default_on = false;
+    for (const auto& name : method.default_wall_treatments) default_on = default_on || name == info->name;
+    if (info->role == WallTreatmentRole::Boundary && names_boundary && !named) default_on = false;
+    auto specs = info->parameters;
+    specs.push_back(boolean_parameter("enabled", named || default_on, "switch the treatment on or off"));
+    const std::string key = path + "." + info->name;
+    WallTreatmentChoice choice;
+    choice.info = info;
+    choice.parameters = resolve_parameters(specs, named ? block.at(info->name) : nlohmann::json(), source, key);
+    choice.enabled = choice.parameters.boolean("enabled");
+    if (choice.enabled) {
+      const bool supported = wall_treatment_supports(*info, method);
+      if (!supported) {
+        throw_input_error(source, key, "wall treatment '" + info->name + "' does not support method '" +
+                                           method.name + "' (it supports: " +
+                                           (info->methods.empty() ? std::string("methods that sum over wall samples")
+                                                                  : join(info->methods)) +
+                                           ")");
+      }
+    }
+    if (named || default_on) choices.push_back(std::move(choice));
+  }
+  std::vector<std::string> boundaries;
+  for (const auto& choice : choices) {
+    if (choice.enabled && choice.info->role == WallTreatmentRole::Boundary) boundaries.push_back(choice.info->name);
+  }
+  // A method without a default boundary model (it reads the wall particles as it likes, e.g. a
+  // test method) may run without one; every other needs exactly one.
+  bool method_has_boundary_default = false;
+  for (const auto& name : method.default_wall_treatments) {
+    const WallTreatmentInfo* info = registry.find(name);
+    method_has_boundary_default = method_has_boundary_default || (info && info->role == WallTreatmentRole::Boundary);
+  }
+  if (boundaries.size() > 1 || (boundaries.empty() && method_has_boundary_default)) {
+    std::vector<std::string> supported;
+    for (const auto* info : registry.all()) {
+      if (info->role == WallTreatmentRole::Boundary && wall_treatment_supports(*info, method)) {
+        supported.push_back(info->name);
+      }
+    }
+    throw_input_error(source, path,
+                      "got " + std::to_string(boundaries.size()) + " boundary models" +
+                          (boundaries.empty() ? std::string() : " (" + join(boundaries) + ")") +
+                          ", expected exactly one of: " + join(supported));
+  }
+  return choices;
+}
+
+}  // namespace
+
+std::vector<SceneBlockSpec> shared_scene_keys() {
+  return {{"", top_level_keys()},     {"domain", domain_keys()},   {"walls", wall_keys()},
+          {"walls.obstacles[]", obstacle_keys()}, {"fluid_blocks[]", fluid_block_keys()}, {"physics", physics_keys()}, {"time", time_keys()},
+          {"output", output_keys()},  {"diagnostics", diagnostics_keys()},
+          {"diagnostics.pressure_sensors[]", pressure_sensor_keys()}, {"stability", stability_keys()}};
+}
+
+const MethodConfig& Scene::method_config(const std::string& name) const {
+  auto found = methods.find(name);
+  if (found == methods.end()) throw_input_error(source, "method", "unknown method '" + name + "'");
+  return found->second;
+}
+
+void apply_override(nlohmann::json& document, const std::string& assignment, const std::string& source) {
+  const auto equals = assignment.find('=');
+  if (equals == std::string::npos || equals == 0) {
+    throw_input_error("--set", assignment, "expected key=value, e.g. time.end_time=0.5");
+  }
+  try {
+    (void)nlohmann::json(assignment).dump();  // the scene is stored in run.json: it must be UTF-8
+  } catch (const nlohmann::json::type_error&) {
+    throw_input_error("--set", describe_json(assignment), "expected UTF-8 text");
+  }
+  const std::string key = assignment.substr(0, equals);
+  const std::string text = assignment.substr(equals + 1);
+  nlohmann::json value;
+  try {
+    value = parse_json(text, "--set", key);
+  } catch (const nlohmann::json::exception&) {
+    value = text;  // a bare word is a string
+  }
+
+  nlohmann::json* node = &document;
+  std::stringstream parts(key);
+  std::string part;
+  std::vector<std::string> path;
+  while (std::getline(parts, part, '.')) path.push_back(part);
+  for (std::size_t k = 0; k < path.size(); ++k) {
+    const std::string& name = path[k];
+    if (name.empty()) throw_input_error("--set", key, "empty component in the key");
+    const bool last = k + 1 == path.size();
+    if (node->is_array()) {
+      char* end = nullptr;
+      const long index = std::strtol(name.c_str(), &end, 10);
+      if (*end != '\0' || index < 0 || static_cast<std::size_t>(index) >= node->size()) {
+        throw_input_error(source, key, "'" + name + "' is not an index of an array of " +
+                                           std::to_string(node->size()));
+      }
+      node = &(*node)[static_cast<std::size_t>(index)];
+    } else {
+      if (node->is_null()) *node = nlohmann::json::object();
+      if (!node->is_object()) throw_input_error(source, key, "'" + name + "' is inside a value that is not an object");
+      node = &(*node)[name];
+    }
+    if (last) *node = value;
+  }
+}
+
+Scene load_scene(const std::string& path, const std::vector<std::string>& overrides,
+                 const MethodRegistry& methods, const WallTreatmentRegistry& walls) {
+  std::error_code ignored;
+  if (std::filesystem::is_directory(path, ignored)) throw_input_error(path, "", "is a folder, expected a scene file");
+  std::ifstream file(path, std::ios::binary);
+  if (!file) throw_input_error(path, "", std::string("cannot open the scene file (") + std::strerror(errno) + ")");
+  std::stringstream text;
+  text << file.rdbuf();
+  if (file.bad()) throw_input_error(path, "", std::string("cannot read the scene file (") + std::strerror(errno) + ")");
+  return load_scene_text(text.str(), path, overrides, methods, walls);
+}
+
+Scene load_scene_text(const std::string& text, const std::string& source, const std::vector<std::string>& overrides,
+                      const MethodRegistry& methods, const WallTreatmentRegistry& walls) {
+  nlohmann::json document;
+  try {
+    document = parse_json(text, source, "");
+  } catch (const nlohmann::json::exception& error) {
+    // "[json.exception.parse_error.101] parse error at line 3, column 5: ...", or
+    // "[json.exception.out_of_range.406] number overflow parsing '1e309'": keep what follows the id.
+    const std::string message = error.what();
+    const auto id_end = message.find("] ");
+    const std::string reason = id_end == std::string::npos ? message : message.substr(id_end + 2);
+    throw_input_error(source, "", "not valid JSON: " + reason);
+  }
+  if (!document.is_object()) {
+    throw_input_error(source, "", "got " + describe_json(document) + ", expected a JSON object at the top level");
+  }
+  for (const auto& assignment : overrides) apply_override(document, assignment, source);
+  return parse_scene(std::move(document), source, methods, walls);
+}
+
+Scene parse_scene(nlohmann::json document, const std::string& source, const MethodRegistry& methods,
+                  const WallTreatmentRegistry& walls) {
+  if (!document.is_object()) throw_input_error(source, "", "expected a JSON object at the top level");
+  Scene scene;
+  scene.source = source;
+  const std::set<std::string> blocks = {"domain", "walls", "fluid_blocks", "physics", "time",
+                                        "output", "diagnostics", "stability", "methods"};
+  const auto top = resolve_parameters(top_level_keys(), document, source, "", blocks);
+  // A block that is given must be an object: null is not "the defaults" (fluid_blocks: below).
+  for (const auto& name : blocks) {
+    if (name != "fluid_blocks" && document.contains(name) && !document.at(name).is_object()) {
+      throw_input_error(source, name, "got " + describe_json(document.at(name)) + ", expected an object");
+    }
+  }
+  scene.description = top.string("description");
+  scene.particle_spacing = top.number("particle_spacing");
+  scene.method = top.string("method");
+
+  if (!document.contains("domain")) throw_input_error(source, "domain", "missing; expected an object with min and max");
+  const auto domain = resolve_parameters(domain_keys(), document.at("domain"), source, "domain");
+  scene.domain.min = domain.vector2("min");
+  scene.domain.max = domain.vector2("max");
+
+  const auto& walls_json = block_or_null(document, "walls");
+  const auto wall_block = resolve_parameters(wall_keys(), walls_json, source, "walls", {"obstacles"});
+  if (walls_json.is_object() && walls_json.contains("obstacles")) {
+    const auto& obstacles = walls_json.at("obstacles");
+    if (!obstacles.is_array()) {
+      throw_input_error(source, "walls.obstacles", "got " + describe_json(obstacles) + ", expected an array of {min, max} boxes");
+    }
+    for (std::size_t k = 0; k < obstacles.size(); ++k) {
+      const auto box = resolve_parameters(obstacle_keys(), obstacles[k], source, "walls.obstacles[" + std::to_string(k) + "]");
+      scene.walls.obstacles.push_back({box.vector2("min"), box.vector2("max")});
+    }
+  }
+  scene.walls.layers = static_cast<int>(wall_block.integer("layers"));
+  scene.walls.bottom = scene.walls.left = scene.walls.right = scene.walls.top = false;
+  for (const auto& side : wall_block.string_list("sides")) {
+    if (side == "bottom") scene.walls.bottom = true;
+    if (side == "left") scene.walls.left = true;
+    if (side == "right") scene.walls.right = true;
+    if (side == "top") scene.walls.top = true;
+  }
+
+  if (!document.contains("fluid_blocks")) {
+    throw_input_error(source, "fluid_blocks", "missing; expected an array of {min, max} blocks");
+  }
+  const auto& fluid = document.at("fluid_blocks");
+  if (!fluid.is_array() || fluid.empty()) {
+    throw_input_error(source, "fluid_blocks", "got " + describe_json(fluid) + ", expected a non-empty array of blocks");
+  }
+  for (std::size_t k = 0; k < fluid.size(); ++k) {
+    const std::string path = "fluid_blocks[" + std::to_string(k) + "]";
+    const auto block = resolve_parameters(fluid_block_keys(), fluid[k], source, path);
+    scene.fluid_blocks.push_back({{block.vector2("min"), block.vector2("max")}, block.vector2("velocity")});
+  }
+
+  const auto physics = resolve_parameters(physics_keys(), block_or_null(document, "physics"), source, "physics");
+  scene.physics = {physics.number("density"), physics.number("kinematic_viscosity"), physics.vector2("gravity")};
+
+  const auto time = resolve_parameters(time_keys(), block_or_null(document, "time"), source, "time");
+  scene.time = {time.number("time_step"), time.number("end_time")};
+
+  const auto output = resolve_parameters(output_keys(), block_or_null(document, "output"), source, "output");
+  scene.output.directory = output.string("directory");
+  scene.output.frame_every_steps = output.integer("frame_every_steps");
+  scene.output.series_every_steps = output.integer("series_every_steps");
+  scene.output.frame_interval = output.number("frame_interval");
+  scene.output.series_interval = output.number("series_interval");
+  scene.output.checkpoint_every_steps = output.integer("checkpoint_every_steps");
+  scene.output.csv = scene.output.vtk = scene.output.vtu = false;
+  for (const auto& format : output.string_list("formats")) {
+    if (format == "csv") scene.output.csv = true;
+    if (format == "vtk") scene.output.vtk = true;
+    if (format == "vtu") scene.output.vtu = true;
+  }
+
+  const auto& diagnostics_block = block_or_null(document, "diagnostics");
+  const auto diagnostics =
+      resolve_parameters(diagnostics_keys(), diagnostics_block, source, "diagnostics", {"pressure_sensors"});
+  scene.diagnostics.front_link_distance = diagnostics.number("front_link_distance");
+  scene.diagnostics.height_probe_width = diagnostics.number("height_probe_width");
+  scene.diagnostics.density_support = diagnostics.number("density_support");
+  if (diagnostics_block.is_object() && diagnostics_block.contains("pressure_sensors")) {
+    const auto& sensors = diagnostics_block.at("pressure_sensors");
+    if (!sensors.is_array()) {
+      throw_input_error(source, "diagnostics.pressure_sensors", "got " + describe_json(sensors) + ", expected an array");
+    }
+    std::set<std::string> names;
+    for (std::size_t k = 0; k < sensors.size(); ++k) {
+      const std::string path = "diagnostics.pressure_sensors[" + std::to_string(k) + "]";
+      const auto sensor = resolve_parameters(pressure_sensor_keys(), sensors[k], source, path);
+      const std::string& name = sensor.string("name");
+      bool valid = !name.empty();
+      for (char c : name) valid = valid && (std::isalnum(static_cast<unsigned char>(c)) || c == '_');
+      if (!valid) {
+        throw_input_error(source, path + ".name", "got " + describe_json(name) + ", expected letters, digits and _");
+      }
+      if (!names.insert(name).second) {
+        throw_input_error(source, path + ".name", "got " + describe_json(name) + ", expected a name no other sensor has");
+      }
+      scene.diagnostics.pressure_sensors.push_back({name, sensor.vector2("position")});
+    }
+  }
+
+  scene.stability = stability_settings(
+      resolve_parameters(stability_keys(), block_or_null(document, "stability"), source, "stability"));
+
+  // Geometry that makes sense.
+  const double l0 = scene.particle_spacing;
+  const Vec2 extent = scene.domain.max - scene.domain.min;
+  if (!(extent.x() > 0.0 && extent.y() > 0.0)) {
+    throw_input_error(source, "domain.max", "got " + describe_point(scene.domain.max) +
+                                                ", expected a point above and to the right of domain.min " +
+                                                describe_point(scene.domain.min));
+  }
+  if (!std::isfinite(extent.x()) || !std::isfinite(extent.y())) {
+    throw_input_error(source, "domain", "got min " + describe_point(scene.domain.min) + " and max " +
+                                            describe_point(scene.domain.max) + ", expected a finite width and height");
+  }
+  if (extent.x() / l0 * extent.y() / l0 > kLargestLatticePoints) {
+    throw_input_error(source, "particle_spacing",
+                      "got " + describe_json(l0) + ", expected a spacing that gives the domain (" +
+                          describe_json(extent.x()) + " x " + describe_json(extent.y()) +
+                          " m) at most 5e7 lattice points");
+  }
+  if (extent.x() < 4.0 * l0 || extent.y() < 4.0 * l0) {
+    throw_input_error(source, "particle_spacing",
+                      "got " + describe_json(l0) + ", expected at most a quarter of the domain's width and height (" +
+                          describe_json(extent.x()) + " x " + describe_json(extent.y()) + " m)");
+  }
+  const std::string domain_text = describe_point(scene.domain.min) + " to " + describe_point(scene.domain.max);
+  // Blocks inside the domain cannot reach the wall layers, which lie on its sides and outside.
+  for (std::size_t k = 0; k < scene.fluid_blocks.size(); ++k) {
+    const Box& box = scene.fluid_blocks[k].region;
+    const std::string path = "fluid_blocks[" + std::to_string(k) + "]";
+    if (!(box.max.x() > box.min.x() && box.max.y() > box.min.y())) {
+      throw_input_error(source, path + ".max",
+                        "got " + describe_point(box.max) + ", expected a point above and to the right of " + path +
+                            ".min " + describe_point(box.min));
+    }
+    const double tolerance = 1e-9 * l0;
+    for (const auto& [corner, point] : {std::pair<const char*, Vec2>{".min", box.min}, {".max", box.max}}) {
+      if (!inside_box(point, scene.domain, tolerance)) {
+        throw_input_error(source, path + corner,
+                          "got " + describe_point(point) + ", expected a point inside the domain " + domain_text);
+      }
+    }
+  }
+  // Obstacles: boxes with lattice-point corners inside the domain (their wall particles sit on
+  // the lattice, their surfaces l0/2 outside the box: core/walls/wall_geometry.hpp).
+  for (std::size_t k = 0; k < scene.walls.obstacles.size(); ++k) {
+    const Box& box = scene.walls.obstacles[k];
+    const std::string path = "walls.obstacles[" + std::to_string(k) + "]";
+    if (!(box.max.x() > box.min.x() && box.max.y() > box.min.y())) {
+      throw_input_error(source, path + ".max",
+                        "got " + describe_point(box.max) + ", expected a point above and to the right of " + path +
+                            ".min " + describe_point(box.min));
+    }
+    for (const auto& [corner, point] : {std::pair<const char*, Vec2>{".min", box.min}, {".max", box.max}}) {
+      if (!inside_box(point, scene.domain, 1e-9 * l0)) {
+        throw_input_error(source, path + corner,
+                          "got " + describe_point(point) + ", expected a point inside the domain " + domain_text);
+      }
+      const Vec2 steps = (point - scene.domain.min) / l0;
+      if (std::fabs(steps.x() - std::round(steps.x())) > 1e-6 || std::fabs(steps.y() - std::round(steps.y())) > 1e-6) {
+        throw_input_error(source, path + corner,
+                          "got " + describe_point(point) + ", expected a lattice point (domain.min + whole multiples of "
+                          "particle_spacing " + describe_json(l0) + " m)");
+      }
+    }
+  }
+  for (std::size_t k = 0; k < scene.diagnostics.pressure_sensors.size(); ++k) {
+    const Vec2& position = scene.diagnostics.pressure_sensors[k].position;
+    if (!inside_box(position, scene.domain, 0.0)) {
+      throw_input_error(source, "diagnostics.pressure_sensors[" + std::to_string(k) + "].position",
+                        "got " + describe_point(position) + ", expected a point inside the domain " + domain_text);
+    }
+  }
+  check_lattice(scene);  // the domain a whole number of spacings, a lattice point in every block
+
+  const double dt = scene.time.time_step;
+  if (dt > scene.time.end_time && scene.time.end_time > 0.0) {
+    throw_input_error(source, "time.time_step", "got " + describe_json(dt) + ", expected at most time.end_time (" +
+                                                    describe_json(scene.time.end_time) + " s)");
+  }
+  if (scene.time.end_time / dt > kMostTimeSteps) {
+    throw_input_error(source, "time.end_time", "got " + describe_json(scene.time.end_time) +
+                                                   ", expected at most 1e10 steps of time.time_step (" +
+                                                   describe_json(kMostTimeSteps * dt) + " s)");
+  }
+  const std::pair<const char*, double> intervals[] = {{"output.frame_interval", scene.output.frame_interval},
+                                                       {"output.series_interval", scene.output.series_interval}};
+  for (const auto& [key, interval] : intervals) {
+    if (interval > 0.0 && interval < kShortestIntervalInSteps * dt) {
+      throw_input_error(source, key,
+                        "got " + describe_json(interval) + ", expected 0 (off) or at least time.time_step / 1000 (" +
+                            describe_json(kShortestIntervalInSteps * dt) + " s)");
+    }
+  }
+  if (scene.output.directory.empty()) {
+    throw_input_error(source, "output.directory", "got \"\", expected a folder name");
+  }
+
+  // Method blocks: every block must belong to a registered method and is validated even
+  // when another method runs, so a typo never waits for the day that block is used.
+  const auto& method_blocks = block_or_null(document, "methods");
+  if (!method_blocks.is_null() && !method_blocks.is_object()) {
+    throw_input_error(source, "methods", "got " + describe_json(method_blocks) + ", expected an object");
+  }
+  if (method_blocks.is_object()) {
+    for (const auto& [name, block] : method_blocks.items()) {
+      if (methods.find(name) == nullptr) {
+        throw_input_error(source, "methods." + name, "unknown method (registered: " + join(methods.names()) + ")");
+      }
+      if (!block.is_object()) {
+        throw_input_error(source, "methods." + name, "got " + describe_json(block) + ", expected an object");
+      }
+      if (block.contains("wall_treatments") && !block.at("wall_treatments").is_object()) {
+        throw_input_error(source, "methods." + name + ".wall_treatments",
+                          "got " + describe_json(block.at("wall_treatments")) + ", expected an object of wall treatments");
+      }
+    }
+  }
+  for (const auto* info : methods.all()) {
+    const std::string path = "methods." + info->name;
+    const nlohmann::json& block =
+        method_blocks.is_object() && method_blocks.contains(info->name) ? method_blocks.at(info->name) : nlohmann::json();
+    MethodConfig config;
+    config.parameters = resolve_parameters(info->parameters, block, source, path, {"wall_treatments"});
+    const nlohmann::json& treatments =
+        block.is_object() && block.contains("wall_treatments") ? block.at("wall_treatments") : nlohmann::json();
+    config.wall_treatments = resolve_wall_treatments(*info, treatments, walls, source, path + ".wall_treatments");
+    scene.methods.emplace(info->name, std::move(config));
+  }
+  if (methods.find(scene.method) == nullptr) {
+    throw_input_error(source, "method", "unknown method '" + scene.method + "' (registered: " + join(methods.names()) + ")");
+  }
+  scene.document = std::move(document);
+  return scene;
+}
+
+}  // namespace mps_lab

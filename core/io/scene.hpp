@@ -1,0 +1,123 @@
+#pragma once
+// A scene: the shared physics and geometry of a run plus one parameter block per method.
+// Every key is documented in docs/scene-format.md. Loading validates everything before a
+// run starts: unknown keys, wrong types, out-of-range values and inconsistent geometry are
+// InputErrors whose one-line message names the file and the dotted key.
+#include <map>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "core/base/parameters.hpp"
+#include "core/run/stability.hpp"
+#include "core/base/types.hpp"
+#include "core/walls/wall_treatment.hpp"
+
+namespace mps_lab {
+
+class MethodRegistry;
+
+struct Box {
+  Vec2 min = Vec2::Zero();  // m
+  Vec2 max = Vec2::Zero();  // m
+};
+
+// Walls of the tank: straight walls along the sides of the domain box, each `layers`
+// particles thick, the first layer on the domain boundary (spec §4).
+struct TankWalls {
+  bool bottom = true, left = true, right = true, top = false;
+  int layers = 3;
+  // Solid boxes inside the tank (walls.obstacles): corners on the lattice; a boundary model
+  // of wall particles fills each with `layers` layers from its surface inwards, the others
+  // take its four faces as wall segments (core/walls/wall_geometry.hpp).
+  std::vector<Box> obstacles;
+};
+
+struct FluidBlock {
+  Box region;                       // particles at (i l0, j l0) strictly inside (spec §4 note)
+  Vec2 velocity = Vec2::Zero();     // initial velocity, m/s
+};
+
+struct Physics {
+  double density = 1000.0;              // rho, kg/m^3
+  double kinematic_viscosity = 1.0e-6;  // nu, m^2/s
+  Vec2 gravity = Vec2(0.0, -9.81);      // m/s^2
+};
+
+struct TimeControl {
+  double time_step = 5.0e-4;  // s (initial/maximum step for adaptive methods)
+  double end_time = 2.0;      // s
+};
+
+struct OutputControl {
+  std::string directory = "output";
+  long long frame_every_steps = 100;   // CSV/VTK frames (spec §3)
+  long long series_every_steps = 10;   // rows of series.csv
+  double frame_interval = 0.0;         // s; > 0: also a frame at the first step at or after each multiple
+  double series_interval = 0.0;        // s; > 0: also a series row at the first step at or after each multiple
+  long long checkpoint_every_steps = 0;  // > 0: checkpoint.bin every N steps (core/io/checkpoint.hpp)
+  bool csv = true;   // output_XXXXXX.csv (spec §10.1)
+  bool vtk = true;   // output_XXXXXX.vtk, VTK legacy ASCII (spec §10.2), and output.vtk.series
+  bool vtu = false;  // output_XXXXXX.vtu, VTK XML appended binary, and output.pvd
+};
+
+// A point where series.csv records the fluid pressure (column "pressure_<name>").
+struct PressureSensor {
+  std::string name;
+  Vec2 position = Vec2::Zero();  // m
+};
+
+// Definitions of the measured quantities in series.csv (see docs/scene-format.md).
+struct DiagnosticsControl {
+  double front_link_distance = 1.5;   // l0: particles closer than this belong to one body of water
+  double height_probe_width = 1.5;    // l0: the back-wall height probes particles this close to the wall
+  double density_support = 2.4;       // l0: support of the kernel of the common density measure
+  std::vector<PressureSensor> pressure_sensors;
+};
+
+// A method's resolved block: its parameters and its wall treatments.
+struct MethodConfig {
+  ParameterValues parameters;
+  std::vector<WallTreatmentChoice> wall_treatments;
+};
+
+struct Scene {
+  std::string source;        // the file, for messages and run.json
+  std::string description;
+  double particle_spacing = 0.025;  // l0, m
+  Box domain;
+  TankWalls walls;
+  std::vector<FluidBlock> fluid_blocks;
+  Physics physics;
+  TimeControl time;
+  OutputControl output;
+  DiagnosticsControl diagnostics;
+  StabilitySettings stability;                 // the "stability" block (core/run/stability.hpp)
+  std::string method;                          // the scene's default method
+  std::map<std::string, MethodConfig> methods;  // one entry per registered method
+  nlohmann::json document;                     // the JSON after --set overrides
+
+  const MethodConfig& method_config(const std::string& name) const;
+};
+
+// Reads, applies overrides ("dotted.key=value", value parsed as JSON, else a string) and
+// validates. Throws InputError.
+Scene load_scene(const std::string& path, const std::vector<std::string>& overrides,
+                 const MethodRegistry& methods, const WallTreatmentRegistry& walls);
+// The same from the file's text; `source` names it in messages (the fuzz test feeds
+// thousands of malformed texts through the very path that reads files).
+Scene load_scene_text(const std::string& text, const std::string& source, const std::vector<std::string>& overrides,
+                      const MethodRegistry& methods, const WallTreatmentRegistry& walls);
+Scene parse_scene(nlohmann::json document, const std::string& source, const MethodRegistry& methods,
+                  const WallTreatmentRegistry& walls);
+void apply_override(nlohmann::json& document, const std::string& assignment, const std::string& source);
+
+// The declared keys of the shared blocks, for documentation checks and `mps_lab scene-keys`.
+struct SceneBlockSpec {
+  std::string path;  // "" for the top level
+  std::vector<ParameterSpec> keys;
+};
+std::vector<SceneBlockSpec> shared_scene_keys();
+
+}  // namespace mps_lab

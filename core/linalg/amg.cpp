@@ -1,0 +1,583 @@
+#include "core/linalg/amg.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstddef>
+#include <stdexcept>
+
+#include <omp.h>
+
+namespace mps_lab {
+
+namespace {
+
+// A coarsest level that stopped coarsening above this many rows is not factorised (dense LU
+// is O(rows^3): 1500 rows = 2e9 flops); a few smoother applications stand in for the solve.
+constexpr int kMaxDenseRows = 1500;
+constexpr int kCoarsestFallbackSmoothings = 4;
+// Levels with fewer rows run their loops on one thread (a parallel region costs microseconds).
+constexpr int kParallelRows = 4096;
+
+// Aggregate markers during aggregation.
+constexpr int kUnassigned = -2;
+constexpr int kNoAggregate = -1;  // no strong neighbour: not on the coarse level
+
+void resize_csr(CsrMatrix& matrix, int rows, std::size_t nonzeros) {
+  matrix.rows = rows;
+  matrix.row_start.resize(static_cast<std::size_t>(rows) + 1);
+  matrix.column.resize(nonzeros);
+  matrix.value.resize(nonzeros);
+  matrix.diagonal_first = false;
+}
+
+// row_start[r + 1] holds the count of row r on entry; prefix sums on exit. Returns the total.
+std::size_t prefix_sum_counts(std::vector<int>& row_start) {
+  row_start[0] = 0;
+  for (std::size_t r = 1; r < row_start.size(); ++r) row_start[r] += row_start[r - 1];
+  return static_cast<std::size_t>(row_start.back());
+}
+
+double diagonal_of_row(const CsrMatrix& matrix, int row) {
+  const int begin = matrix.row_start[row];
+  const int end = matrix.row_start[row + 1];
+  if (matrix.diagonal_first) return begin < end && matrix.column[begin] == row ? matrix.value[begin] : 0.0;
+  for (int k = begin; k < end; ++k)
+    if (matrix.column[k] == row) return matrix.value[k];
+  return 0.0;
+}
+
+// product = left * right. Rows are split into one contiguous range per thread; each thread
+// computes its rows into its own buffer (one pass: no symbolic phase), then, after the row
+// lengths are known, copies them into place. Every entry is summed in the order of left's row
+// then right's rows, so the bits do not depend on the thread count. Columns appear in a row in
+// the order they are first reached.
+void multiply_sparse(const CsrMatrix& left, const CsrMatrix& right, int right_columns, CsrMatrix& product,
+                     std::vector<AmgThreadScratch>& scratch) {
+  const int rows = left.rows;
+  product.rows = rows;
+  product.diagonal_first = false;
+  product.row_start.resize(static_cast<std::size_t>(rows) + 1);
+  product.row_start[0] = 0;
+#pragma omp parallel if (rows >= kParallelRows)
+  {
+    const int threads = omp_get_num_threads();
+    const int thread = omp_get_thread_num();
+    AmgThreadScratch& own = scratch[static_cast<std::size_t>(thread)];
+    const auto first_row = static_cast<int>(static_cast<long long>(rows) * thread / threads);
+    const auto end_row = static_cast<int>(static_cast<long long>(rows) * (thread + 1) / threads);
+    // position[c]: where column c sits in the buffer; before the current row's start: stale.
+    own.position.assign(static_cast<std::size_t>(right_columns), -1);
+    std::size_t used = 0;  // entries of own.column / own.value in use (the vectors only grow)
+    for (int r = first_row; r < end_row; ++r) {
+      // At most the sum of the right rows' lengths: make room first, then write by index.
+      std::size_t bound = 0;
+      for (int k = left.row_start[r]; k < left.row_start[r + 1]; ++k)
+        bound += static_cast<std::size_t>(right.row_start[left.column[k] + 1] - right.row_start[left.column[k]]);
+      if (own.column.size() < used + bound) {
+        own.column.resize(2 * (used + bound));
+        own.value.resize(2 * (used + bound));
+      }
+      int* columns = own.column.data();
+      double* values = own.value.data();
+      int* position = own.position.data();
+      const auto row_begin = static_cast<int>(used);
+      auto next = row_begin;
+      for (int k = left.row_start[r]; k < left.row_start[r + 1]; ++k) {
+        const int middle = left.column[k];
+        const double left_value = left.value[k];
+        for (int l = right.row_start[middle]; l < right.row_start[middle + 1]; ++l) {
+          const int c = right.column[l];
+          const double term = left_value * right.value[l];
+          if (position[c] < row_begin) {
+            position[c] = next;
+            columns[next] = c;
+            values[next] = term;
+            ++next;
+          } else {
+            values[position[c]] += term;
+          }
+        }
+      }
+      used = static_cast<std::size_t>(next);
+      product.row_start[static_cast<std::size_t>(r) + 1] = next - row_begin;
+    }
+#pragma omp barrier
+#pragma omp single
+    {
+      const std::size_t nonzeros = prefix_sum_counts(product.row_start);
+      product.column.resize(nonzeros);
+      product.value.resize(nonzeros);
+    }  // implicit barrier
+    if (first_row < end_row) {
+      const int destination = product.row_start[first_row];
+      const int count = product.row_start[end_row] - destination;
+      std::copy_n(own.column.data(), count, product.column.data() + destination);
+      std::copy_n(own.value.data(), count, product.value.data() + destination);
+    }
+  }
+}
+
+// transpose = matrix^T (matrix has `columns` columns); sequential counting sort, O(nonzeros).
+void transpose_sparse(const CsrMatrix& matrix, int columns, CsrMatrix& transpose) {
+  resize_csr(transpose, columns, matrix.nonzeros());
+  std::fill(transpose.row_start.begin(), transpose.row_start.end(), 0);
+  for (const int c : matrix.column) ++transpose.row_start[static_cast<std::size_t>(c) + 1];
+  prefix_sum_counts(transpose.row_start);
+  // Fill, using row_start[c] as the running insertion point, then shift back.
+  for (int r = 0; r < matrix.rows; ++r) {
+    for (int k = matrix.row_start[r]; k < matrix.row_start[r + 1]; ++k) {
+      const int destination = transpose.row_start[matrix.column[k]]++;
+      transpose.column[destination] = r;
+      transpose.value[destination] = matrix.value[k];
+    }
+  }
+  for (int c = columns; c > 0; --c) transpose.row_start[c] = transpose.row_start[c - 1];
+  transpose.row_start[0] = 0;
+}
+
+}  // namespace
+
+AmgPreconditioner::AmgPreconditioner(const AmgOptions& options) : options_(options) {
+  if (!(options_.strength_threshold >= 0.0)) throw std::invalid_argument("AMG: strength_threshold must be >= 0");
+  if (options_.smoother_sweeps < 1) throw std::invalid_argument("AMG: smoother_sweeps must be >= 1");
+  if (!(options_.chebyshev_ratio > 1.0)) throw std::invalid_argument("AMG: chebyshev_ratio must be > 1");
+  if (options_.coarsest_size < 1) throw std::invalid_argument("AMG: coarsest_size must be >= 1");
+  if (options_.max_levels < 1) throw std::invalid_argument("AMG: max_levels must be >= 1");
+  if (!(options_.coarse_correction_scaling > 0.0))
+    throw std::invalid_argument("AMG: coarse_correction_scaling must be > 0");
+}
+
+const CsrMatrix& AmgPreconditioner::level_matrix(std::size_t level) const {
+  return level == 0 ? *fine_matrix_ : levels_[level].matrix;
+}
+
+void AmgPreconditioner::setup(const CsrMatrix& matrix) {
+  fine_matrix_ = &matrix;
+  const auto threads = static_cast<std::size_t>(std::max(1, omp_get_max_threads()));
+  if (thread_scratch_.size() < threads) thread_scratch_.resize(threads);
+  level_count_ = 0;
+  for (std::size_t level = 0;; ++level) {
+    if (levels_.size() < level + 2) levels_.resize(level + 2);  // this level and the next
+    Level& current = levels_[level];
+    const CsrMatrix& a = level_matrix(level);
+    const int rows = a.rows;
+    // Inverse diagonal and the Gershgorin bound of rho(D^-1 A) (max is exact: deterministic).
+    current.inverse_diagonal.resize(static_cast<std::size_t>(rows));
+    double bound = 0.0;
+#pragma omp parallel for schedule(static) reduction(max : bound) if (rows >= kParallelRows)
+    for (int r = 0; r < rows; ++r) {
+      const double diagonal = diagonal_of_row(a, r);
+      double absolute_sum = 0.0;
+      for (int k = a.row_start[r]; k < a.row_start[r + 1]; ++k) absolute_sum += std::abs(a.value[k]);
+      current.inverse_diagonal[r] = diagonal != 0.0 ? 1.0 / diagonal : 0.0;
+      if (diagonal != 0.0) bound = std::max(bound, absolute_sum / std::abs(diagonal));
+    }
+    current.spectral_bound = bound > 0.0 ? bound : 1.0;
+    const std::size_t vector_size = static_cast<std::size_t>(rows);
+    current.rhs.resize(vector_size);
+    current.solution.resize(vector_size);
+    current.residual.resize(vector_size);
+    current.direction.resize(vector_size);
+    level_count_ = level + 1;
+    if (rows <= options_.coarsest_size || static_cast<int>(level) + 1 >= options_.max_levels) break;
+    build_level(level);
+    if (levels_[level + 1].matrix.rows == 0 || levels_[level + 1].matrix.rows >= rows) break;
+  }
+  factorise_coarsest();
+}
+
+void AmgPreconditioner::build_level(std::size_t level) {
+  Level& current = levels_[level];
+  Level& next = levels_[level + 1];
+  const CsrMatrix& a = level_matrix(level);
+  const int rows = a.rows;
+  const std::size_t nonzeros = a.nonzeros();
+
+  // 1. Strength of connection; the filtered diagonal d_F = a_ii + (sum of weak a_ij) and the
+  // Gershgorin bound of D_F^-1 A_F for the prolongator smoothing.
+  const double theta = options_.strength_threshold * std::pow(0.5, static_cast<double>(level));
+  const double theta_squared = theta * theta;
+  current.strong.resize(nonzeros);
+  std::vector<double>& filtered_diagonal = current.residual;  // scratch until apply
+  double filtered_bound = 0.0;
+#pragma omp parallel for schedule(static) reduction(max : filtered_bound) if (rows >= kParallelRows)
+  for (int r = 0; r < rows; ++r) {
+    const double inverse_r = current.inverse_diagonal[r];
+    const double diagonal_r = inverse_r != 0.0 ? 1.0 / inverse_r : 0.0;
+    double weak_sum = 0.0, strong_absolute_sum = 0.0;
+    for (int k = a.row_start[r]; k < a.row_start[r + 1]; ++k) {
+      const int c = a.column[k];
+      if (c == r) {
+        current.strong[k] = 0;
+        continue;
+      }
+      // |a_rc| >= theta sqrt(|a_rr a_cc|)  <=>  a_rc^2 |a_rr^-1 a_cc^-1| >= theta^2 (branch-free:
+      // irregular particle patterns defeat the branch predictor)
+      const double value = a.value[k];
+      const double normalised = value * value * std::abs(inverse_r * current.inverse_diagonal[c]);
+      const bool is_strong = normalised >= theta_squared && value != 0.0;
+      current.strong[k] = static_cast<char>(is_strong);
+      const double strong_part = is_strong ? 1.0 : 0.0;
+      strong_absolute_sum += strong_part * std::abs(value);
+      weak_sum += (1.0 - strong_part) * value;
+    }
+    double filtered = diagonal_r + weak_sum;
+    if (!(filtered * diagonal_r > 0.0)) filtered = diagonal_r;  // lumping must not flip the sign
+    filtered_diagonal[r] = filtered;
+    if (filtered != 0.0) filtered_bound = std::max(filtered_bound, 1.0 + strong_absolute_sum / std::abs(filtered));
+  }
+
+  // 2. Greedy aggregation (sequential, O(rows)): Vaněk, Mandel & Brezina 1996, section 5.
+  std::vector<int>& aggregate = current.aggregate;
+  aggregate.assign(static_cast<std::size_t>(rows), kUnassigned);
+  for (int r = 0; r < rows; ++r) {
+    bool any_strong = false;
+    for (int k = a.row_start[r]; k < a.row_start[r + 1] && !any_strong; ++k) any_strong = current.strong[k] != 0;
+    if (!any_strong) aggregate[r] = kNoAggregate;
+  }
+  int aggregates = 0;
+  // Roots are visited in breadth-first order over the strong connections (restarting at the
+  // first unvisited row): aggregates then grow as a front, regular on a lattice, whatever the
+  // order of the unknowns (particles are not sorted); coarse rows inherit that locality.
+  std::vector<int>& order = current.visit_order;
+  std::vector<char>& visited = current.visited;
+  order.resize(static_cast<std::size_t>(rows));
+  visited.assign(static_cast<std::size_t>(rows), 0);
+  {
+    std::size_t head = 0, tail = 0;
+    for (int seed = 0; seed < rows; ++seed) {
+      if (visited[seed]) continue;
+      visited[seed] = 1;
+      order[tail++] = seed;
+      while (head < tail) {
+        const int r = order[head++];
+        for (int k = a.row_start[r]; k < a.row_start[r + 1]; ++k) {
+          const int c = a.column[k];
+          if (current.strong[k] && !visited[c]) {
+            visited[c] = 1;
+            order[tail++] = c;
+          }
+        }
+      }
+    }
+  }
+  // Pass 1: a root whose strong neighbours are all free takes them all.
+  for (const int r : order) {
+    if (aggregate[r] != kUnassigned) continue;
+    bool all_free = true;
+    for (int k = a.row_start[r]; k < a.row_start[r + 1] && all_free; ++k)
+      if (current.strong[k] && aggregate[a.column[k]] >= 0) all_free = false;
+    if (!all_free) continue;
+    aggregate[r] = aggregates;
+    for (int k = a.row_start[r]; k < a.row_start[r + 1]; ++k)
+      if (current.strong[k] && aggregate[a.column[k]] == kUnassigned) aggregate[a.column[k]] = aggregates;
+    ++aggregates;
+  }
+  // Pass 2: a leftover joins the pass-1 aggregate it is most strongly connected to (recorded
+  // as -3 - aggregate, so that only pass-1 aggregates are joined).
+  for (int r = 0; r < rows; ++r) {
+    if (aggregate[r] != kUnassigned) continue;
+    double strongest = 0.0;
+    int chosen = kUnassigned;
+    for (int k = a.row_start[r]; k < a.row_start[r + 1]; ++k) {
+      const int c = a.column[k];
+      if (current.strong[k] && aggregate[c] >= 0 && std::abs(a.value[k]) > strongest) {
+        strongest = std::abs(a.value[k]);
+        chosen = aggregate[c];
+      }
+    }
+    if (chosen >= 0) aggregate[r] = -3 - chosen;
+  }
+  // Pass 3: the rest form aggregates with their free strong neighbours.
+  for (const int r : order) {
+    if (aggregate[r] != kUnassigned) continue;
+    aggregate[r] = aggregates;
+    for (int k = a.row_start[r]; k < a.row_start[r + 1]; ++k)
+      if (current.strong[k] && aggregate[a.column[k]] == kUnassigned) aggregate[a.column[k]] = aggregates;
+    ++aggregates;
+  }
+  for (int r = 0; r < rows; ++r)
+    if (aggregate[r] <= -3) aggregate[r] = -3 - aggregate[r];
+  const int coarse_rows = aggregates;
+  if (coarse_rows == 0 || coarse_rows >= rows) {  // nothing to coarsen: this level is the coarsest
+    next.matrix.clear_rows(0);
+    return;
+  }
+
+  // 3-4. Prolongator P = (I - omega D_F^-1 A_F) P0 (or P0), built with at most (row length + 1)
+  // entries per row in a strided layout, then compacted.
+  CsrMatrix& prolongator = current.prolongator;
+  const bool smooth = options_.smooth_prolongator;
+  const double omega = smooth ? (4.0 / 3.0) / std::max(filtered_bound, 1.0) : 0.0;
+  const std::size_t stride_total = nonzeros + static_cast<std::size_t>(rows);
+  // Scratch: the AP product's arrays are rebuilt below, so they hold the strided rows here.
+  CsrMatrix& strided = current.product;
+  strided.column.resize(stride_total);
+  strided.value.resize(stride_total);
+  prolongator.rows = rows;
+  prolongator.row_start.resize(static_cast<std::size_t>(rows) + 1);
+#pragma omp parallel for schedule(static) if (rows >= kParallelRows)
+  for (int r = 0; r < rows; ++r) {
+    const std::size_t base = static_cast<std::size_t>(a.row_start[r]) + static_cast<std::size_t>(r);
+    int* columns = strided.column.data() + base;
+    double* values = strided.value.data() + base;
+    int count = 0;
+    const int own = aggregate[r];
+    if (own >= 0) {
+      columns[0] = own;
+      values[0] = 1.0 - omega;  // (I - omega D_F^-1 A_F) on the diagonal entry, d_F / d_F = 1
+      count = 1;
+      if (smooth) {
+        const double factor = -omega / filtered_diagonal[r];
+        for (int k = a.row_start[r]; k < a.row_start[r + 1]; ++k) {
+          if (!current.strong[k]) continue;
+          const int target = aggregate[a.column[k]];
+          if (target < 0) continue;
+          const double term = factor * a.value[k];
+          int slot = 0;
+          while (slot < count && columns[slot] != target) ++slot;
+          if (slot == count) {
+            columns[count] = target;
+            values[count] = term;
+            ++count;
+          } else {
+            values[slot] += term;
+          }
+        }
+      }
+    }
+    prolongator.row_start[static_cast<std::size_t>(r) + 1] = count;
+  }
+  const std::size_t prolongator_nonzeros = prefix_sum_counts(prolongator.row_start);
+  prolongator.column.resize(prolongator_nonzeros);
+  prolongator.value.resize(prolongator_nonzeros);
+  prolongator.diagonal_first = false;
+#pragma omp parallel for schedule(static) if (rows >= kParallelRows)
+  for (int r = 0; r < rows; ++r) {
+    const std::size_t base = static_cast<std::size_t>(a.row_start[r]) + static_cast<std::size_t>(r);
+    const int begin = prolongator.row_start[r];
+    const int count = prolongator.row_start[r + 1] - begin;
+    std::copy_n(strided.column.data() + base, count, prolongator.column.data() + begin);
+    std::copy_n(strided.value.data() + base, count, prolongator.value.data() + begin);
+  }
+
+  // 5. R = P^T and the Galerkin product A_c = R (A P).
+  transpose_sparse(prolongator, coarse_rows, current.restriction);
+  multiply_sparse(a, prolongator, coarse_rows, current.product, thread_scratch_);
+  multiply_sparse(current.restriction, current.product, coarse_rows, next.matrix, thread_scratch_);
+}
+
+void AmgPreconditioner::factorise_coarsest() {
+  const CsrMatrix& a = level_matrix(level_count_ - 1);
+  const int n = a.rows;
+  if (n > kMaxDenseRows) {
+    coarsest_factors_.clear();
+    return;
+  }
+  const auto size = static_cast<std::size_t>(n);
+  coarsest_factors_.assign(size * size, 0.0);
+  coarsest_work_.resize(size);
+  double* lu = coarsest_factors_.data();
+  double largest_diagonal = 0.0;
+  for (int r = 0; r < n; ++r)
+    for (int k = a.row_start[r]; k < a.row_start[r + 1]; ++k) {
+      lu[static_cast<std::size_t>(r) * size + static_cast<std::size_t>(a.column[k])] += a.value[k];
+      if (a.column[k] == r) largest_diagonal = std::max(largest_diagonal, std::abs(a.value[k]));
+    }
+  // LU without pivoting (Doolittle, in place). A pivot below 1e-12 of the largest diagonal
+  // (a singular block) is set to 0 and its column is not eliminated; the solve zeroes it.
+  const double tiny = 1e-12 * largest_diagonal;
+  for (std::size_t p = 0; p < size; ++p) {
+    double& pivot = lu[p * size + p];
+    if (!(std::abs(pivot) > tiny)) {
+      pivot = 0.0;
+      for (std::size_t i = p + 1; i < size; ++i) lu[i * size + p] = 0.0;
+      continue;
+    }
+    for (std::size_t i = p + 1; i < size; ++i) {
+      const double multiplier = lu[i * size + p] / pivot;
+      lu[i * size + p] = multiplier;
+      if (multiplier == 0.0) continue;
+      for (std::size_t j = p + 1; j < size; ++j) lu[i * size + j] -= multiplier * lu[p * size + j];
+    }
+  }
+}
+
+void AmgPreconditioner::solve_coarsest(const double* rhs, double* solution) const {
+  const std::size_t level = level_count_ - 1;
+  const CsrMatrix& a = level_matrix(level);
+  const auto size = static_cast<std::size_t>(a.rows);
+  if (coarsest_factors_.size() != size * size) {  // too large to factorise: smoothing only
+    smooth(level, rhs, solution, true);
+    for (int i = 1; i < kCoarsestFallbackSmoothings; ++i) smooth(level, rhs, solution, false);
+    return;
+  }
+  const double* lu = coarsest_factors_.data();
+  for (std::size_t i = 0; i < size; ++i) {
+    double sum = rhs[i];
+    for (std::size_t j = 0; j < i; ++j) sum -= lu[i * size + j] * solution[j];
+    solution[i] = sum;
+  }
+  for (std::size_t i = size; i-- > 0;) {
+    const double pivot = lu[i * size + i];
+    if (pivot == 0.0) {
+      solution[i] = 0.0;
+      continue;
+    }
+    double sum = solution[i];
+    for (std::size_t j = i + 1; j < size; ++j) sum -= lu[i * size + j] * solution[j];
+    solution[i] = sum / pivot;
+  }
+}
+
+// Smoother for A x = rhs on `level`: a Chebyshev polynomial in D^-1 A on [rho / ratio, rho]
+// (the three-term recurrence of Saad, Iterative Methods for Sparse Linear Systems, 2nd ed.,
+// algorithm 12.1, preconditioned by D), or damped Jacobi. zero_initial: solution starts at 0
+// (its content is ignored and the first product with A is skipped).
+void AmgPreconditioner::smooth(std::size_t level, const double* rhs, double* solution, bool zero_initial) const {
+  const Level& current = levels_[level];
+  const CsrMatrix& a = level_matrix(level);
+  const int rows = a.rows;
+  const double* inverse_diagonal = current.inverse_diagonal.data();
+  double* scaled_residual = current.residual.data();
+  double* direction = current.direction.data();
+  const double upper = current.spectral_bound;
+  const int steps = options_.smoother_sweeps;
+
+  // scaled_residual = D^-1 (rhs - A solution)
+  const auto update_residual = [&](bool solution_is_zero) {
+    if (solution_is_zero) {
+#pragma omp parallel for schedule(static) if (rows >= kParallelRows)
+      for (int r = 0; r < rows; ++r) scaled_residual[r] = inverse_diagonal[r] * rhs[r];
+      return;
+    }
+#pragma omp parallel for schedule(static) if (rows >= kParallelRows)
+    for (int r = 0; r < rows; ++r) {
+      double product = 0.0;
+      for (int k = a.row_start[r]; k < a.row_start[r + 1]; ++k) product += a.value[k] * solution[a.column[k]];
+      scaled_residual[r] = inverse_diagonal[r] * (rhs[r] - product);
+    }
+  };
+
+  if (options_.smoother == AmgSmoother::damped_jacobi) {
+    const double weight = (4.0 / 3.0) / upper;
+    for (int step = 0; step < steps; ++step) {
+      const bool first_from_zero = zero_initial && step == 0;
+      update_residual(first_from_zero);
+      if (first_from_zero) {
+#pragma omp parallel for schedule(static) if (rows >= kParallelRows)
+        for (int r = 0; r < rows; ++r) solution[r] = weight * scaled_residual[r];
+      } else {
+#pragma omp parallel for schedule(static) if (rows >= kParallelRows)
+        for (int r = 0; r < rows; ++r) solution[r] += weight * scaled_residual[r];
+      }
+    }
+    return;
+  }
+
+  const double lower = upper / options_.chebyshev_ratio;
+  const double centre = 0.5 * (upper + lower);      // theta
+  const double half_width = 0.5 * (upper - lower);  // delta
+  const double sigma = centre / half_width;
+  double rho_old = 1.0 / sigma;
+  update_residual(zero_initial);
+  {
+    const double inverse_centre = 1.0 / centre;
+    if (zero_initial) {
+#pragma omp parallel for schedule(static) if (rows >= kParallelRows)
+      for (int r = 0; r < rows; ++r) {
+        direction[r] = inverse_centre * scaled_residual[r];
+        solution[r] = direction[r];
+      }
+    } else {
+#pragma omp parallel for schedule(static) if (rows >= kParallelRows)
+      for (int r = 0; r < rows; ++r) {
+        direction[r] = inverse_centre * scaled_residual[r];
+        solution[r] += direction[r];
+      }
+    }
+  }
+  for (int step = 1; step < steps; ++step) {
+    const double rho_new = 1.0 / (2.0 * sigma - rho_old);
+    const double keep = rho_new * rho_old;
+    const double push = 2.0 * rho_new / half_width;
+    update_residual(false);
+#pragma omp parallel for schedule(static) if (rows >= kParallelRows)
+    for (int r = 0; r < rows; ++r) {
+      direction[r] = keep * direction[r] + push * scaled_residual[r];
+      solution[r] += direction[r];
+    }
+    rho_old = rho_new;
+  }
+}
+
+void AmgPreconditioner::cycle(std::size_t level, const double* rhs, double* solution) const {
+  if (level + 1 == level_count_) {
+    solve_coarsest(rhs, solution);
+    return;
+  }
+  const Level& current = levels_[level];
+  const Level& next = levels_[level + 1];
+  const CsrMatrix& a = level_matrix(level);
+  const int rows = a.rows;
+  smooth(level, rhs, solution, true);
+  // residual = rhs - A solution; coarse rhs = R residual.
+  double* residual = current.residual.data();
+#pragma omp parallel for schedule(static) if (rows >= kParallelRows)
+  for (int r = 0; r < rows; ++r) {
+    double product = 0.0;
+    for (int k = a.row_start[r]; k < a.row_start[r + 1]; ++k) product += a.value[k] * solution[a.column[k]];
+    residual[r] = rhs[r] - product;
+  }
+  const CsrMatrix& restriction = current.restriction;
+  const int coarse_rows = restriction.rows;
+  double* coarse_rhs = next.rhs.data();
+#pragma omp parallel for schedule(static) if (coarse_rows >= kParallelRows)
+  for (int c = 0; c < coarse_rows; ++c) {
+    double sum = 0.0;
+    for (int k = restriction.row_start[c]; k < restriction.row_start[c + 1]; ++k)
+      sum += restriction.value[k] * residual[restriction.column[k]];
+    coarse_rhs[c] = sum;
+  }
+  cycle(level + 1, next.rhs.data(), next.solution.data());
+  // solution += scaling P coarse_solution
+  const CsrMatrix& p = current.prolongator;
+  const double scaling = options_.coarse_correction_scaling;
+  const double* coarse = next.solution.data();
+#pragma omp parallel for schedule(static) if (rows >= kParallelRows)
+  for (int r = 0; r < rows; ++r) {
+    double correction = 0.0;
+    for (int k = p.row_start[r]; k < p.row_start[r + 1]; ++k) correction += p.value[k] * coarse[p.column[k]];
+    solution[r] += scaling * correction;
+  }
+  smooth(level, rhs, solution, false);
+}
+
+void AmgPreconditioner::apply(const double* residual, double* result) const {
+  if (fine_matrix_ == nullptr) throw std::logic_error("AmgPreconditioner::apply before setup");
+  if (fine_matrix_->rows == 0) return;
+  cycle(0, residual, result);
+}
+
+std::vector<AmgLevelInfo> AmgPreconditioner::levels() const {
+  std::vector<AmgLevelInfo> info;
+  for (std::size_t level = 0; level < level_count_; ++level) {
+    const CsrMatrix& a = level_matrix(level);
+    const bool coarsest = level + 1 == level_count_;
+    info.push_back({a.rows, a.nonzeros(), coarsest ? std::size_t{0} : levels_[level].prolongator.nonzeros()});
+  }
+  return info;
+}
+
+double AmgPreconditioner::operator_complexity() const {
+  if (level_count_ == 0 || level_matrix(0).nonzeros() == 0) return 1.0;
+  double total = 0.0;
+  for (std::size_t level = 0; level < level_count_; ++level) {
+    const CsrMatrix& a = level_matrix(level);
+    const bool dense = level + 1 == level_count_ && level > 0 && !coarsest_factors_.empty();
+    total += dense ? static_cast<double>(a.rows) * static_cast<double>(a.rows) : static_cast<double>(a.nonzeros());
+  }
+  return total / static_cast<double>(level_matrix(0).nonzeros());
+}
+
+}  // namespace mps_lab

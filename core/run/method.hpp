@@ -1,0 +1,114 @@
+#pragma once
+// Methods are plugins. A method registers a MethodInfo: its name, a one-line
+// description, the parameters it reads (its block in the scene, "methods.<name>"), the
+// per-particle fields it needs, the solver statistics it reports, the wall treatments it
+// uses by default, and a factory. The driver runs whatever the scene and --method name;
+// the method touches the core only through ParticleSet, the neighbour search, the kernels,
+// the wall-treatment hooks and the helpers declared in core/.
+//
+// Adding a method: add a folder methods/<name>/ whose sources define
+//   void mps_lab_register_method_<name>(mps_lab::MethodRegistry&);
+#include <functional>
+#include <map>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "core/base/parameters.hpp"
+#include "core/base/particles.hpp"
+#include "core/run/profile.hpp"
+#include "core/walls/wall_treatment.hpp"
+
+namespace mps_lab {
+
+struct Scene;
+class CheckpointWriter;
+class CheckpointReader;
+
+// A per-particle scalar the method needs; written to the VTK frames when `written`.
+struct FieldSpec {
+  std::string name;
+  std::string unit;
+  std::string description;
+  bool written = true;
+};
+
+// What one step reports. `solver_iterations`/`solver_residual` fill the common series
+// columns (the main pressure solve); `extra` holds one value per declared series column.
+struct StepReport {
+  long long solver_iterations = 0;
+  double solver_residual = 0.0;
+  // False when a solver of this step stopped at its iteration cap above its tolerance; the
+  // stability monitor records it and, by the scene's `stability.on_solver_failure`, stops
+  // the run or goes on. `solver_note` says which solve (e.g. "PPE residual 3e-5 > 1e-8").
+  bool solver_converged = true;
+  std::string solver_note;
+  // Fluid particles whose speed a wall treatment capped in this step (WallContext).
+  std::size_t speed_limited_particles = 0;
+  std::vector<double> extra;
+};
+
+class Method {
+ public:
+  virtual ~Method() = default;
+  // Called once with the initial particles (fields already allocated).
+  virtual void initialise(ParticleSet& particles) = 0;
+  // The time step for the next step, s. May depend on the state (CFL-adaptive methods).
+  virtual double time_step(const ParticleSet& particles) const = 0;
+  // Advances the particles by dt.
+  virtual StepReport step(ParticleSet& particles, double dt) = 0;
+  // Method-specific constants and totals for run.json (e.g. n0, lambda, mean iterations).
+  virtual nlohmann::json summary() const { return nlohmann::json::object(); }
+  // Checkpoints (core/io/checkpoint.hpp, docs/checkpoints.md): everything the method keeps
+  // between steps that is not in the ParticleSet (a neighbour list reused by the next step,
+  // warm-start values, its clock, the totals of summary()), so that a run restored after
+  // initialise() continues bit for bit. restore_state reads what save_state wrote, in order.
+  // The defaults suit a method that keeps nothing between steps.
+  virtual void save_state(CheckpointWriter&) const {}
+  virtual void restore_state(CheckpointReader&) {}
+};
+
+struct MethodSetup {
+  const Scene& scene;
+  const ParameterValues& parameters;
+  std::vector<WallTreatmentChoice> wall_treatments;
+  // The run's per-phase timers (core/run/profile.hpp); null outside a run. A method times its
+  // phases with them and hands them to its WallTreatmentSet.
+  PhaseTimers* timers = nullptr;
+};
+
+struct MethodInfo {
+  std::string name;
+  std::string description;                         // one line, for `mps_lab methods`
+  std::vector<ParameterSpec> parameters;
+  std::vector<FieldSpec> fields;
+  std::vector<std::string> series_columns;         // method-specific statistics in series.csv
+  std::vector<std::string> default_wall_treatments;  // enabled unless the scene says otherwise
+  // True when every operator of the method also sums over wall samples (core/walls/wall_samples.hpp):
+  // the method then runs with every boundary model of wall samples, present and future.
+  bool wall_samples = false;
+  std::function<std::unique_ptr<Method>(const MethodSetup&)> create;
+};
+
+class MethodRegistry {
+ public:
+  void add(MethodInfo info);  // throws std::logic_error on a duplicate name
+  const MethodInfo* find(const std::string& name) const;
+  std::vector<const MethodInfo*> all() const;  // by name
+  std::vector<std::string> names() const;
+
+ private:
+  std::map<std::string, MethodInfo> entries_;
+};
+
+// Whether a method may use a wall treatment: a boundary model of wall samples works with
+// every method whose operators sum over them (MethodInfo::wall_samples); any other treatment
+// names the methods it supports (WallTreatmentInfo::methods).
+bool wall_treatment_supports(const WallTreatmentInfo& wall, const MethodInfo& method);
+
+// Every method compiled into this build (generated from methods/*/).
+MethodRegistry builtin_methods();
+
+}  // namespace mps_lab

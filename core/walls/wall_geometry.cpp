@@ -1,0 +1,124 @@
+#include "core/walls/wall_geometry.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace mps_lab {
+
+namespace {
+
+bool strictly_inside_box(const Vec2& x, const Box& box) {
+  return x.x() > box.min.x() && x.x() < box.max.x() && x.y() > box.min.y() && x.y() < box.max.y();
+}
+
+}  // namespace
+
+WallGeometry::WallGeometry(const Scene& scene)
+    : walls_(scene.walls), domain_(scene.domain), half_spacing_(0.5 * scene.particle_spacing) {
+  const double h = half_spacing_;
+  const double far = std::numeric_limits<double>::infinity();
+  interior_.min = Vec2(walls_.left ? domain_.min.x() + h : -far, walls_.bottom ? domain_.min.y() + h : -far);
+  interior_.max = Vec2(walls_.right ? domain_.max.x() - h : far, walls_.top ? domain_.max.y() - h : far);
+  for (const Box& box : walls_.obstacles) obstacles_.push_back({box.min - Vec2(h, h), box.max + Vec2(h, h)});
+
+  // Tank sides: along the surface, ending at the neighbouring side's surface, or at the domain
+  // edge where that side is open.
+  const double x0 = walls_.left ? interior_.min.x() : domain_.min.x();
+  const double x1 = walls_.right ? interior_.max.x() : domain_.max.x();
+  const double y0 = walls_.bottom ? interior_.min.y() : domain_.min.y();
+  const double y1 = walls_.top ? interior_.max.y() : domain_.max.y();
+  std::vector<WallSegment> candidates;
+  if (walls_.bottom) candidates.push_back({Vec2(x0, y0), Vec2(x1, y0), Vec2(0.0, 1.0), -1});
+  if (walls_.top) candidates.push_back({Vec2(x0, y1), Vec2(x1, y1), Vec2(0.0, -1.0), -1});
+  if (walls_.left) candidates.push_back({Vec2(x0, y0), Vec2(x0, y1), Vec2(1.0, 0.0), -1});
+  if (walls_.right) candidates.push_back({Vec2(x1, y0), Vec2(x1, y1), Vec2(-1.0, 0.0), -1});
+  // Obstacle faces, outward normals; a face that lies inside another solid (an obstacle on
+  // the bed has its bottom face inside the bottom wall) is not a wall surface.
+  for (std::size_t k = 0; k < obstacles_.size(); ++k) {
+    const Box& s = obstacles_[k];
+    const int body = static_cast<int>(k);
+    candidates.push_back({Vec2(s.min.x(), s.max.y()), Vec2(s.max.x(), s.max.y()), Vec2(0.0, 1.0), body});
+    candidates.push_back({Vec2(s.min.x(), s.min.y()), Vec2(s.max.x(), s.min.y()), Vec2(0.0, -1.0), body});
+    candidates.push_back({Vec2(s.min.x(), s.min.y()), Vec2(s.min.x(), s.max.y()), Vec2(-1.0, 0.0), body});
+    candidates.push_back({Vec2(s.max.x(), s.min.y()), Vec2(s.max.x(), s.max.y()), Vec2(1.0, 0.0), body});
+  }
+  for (const WallSegment& segment : candidates) {
+    // A probe just in front of the face's middle: on the fluid side of every other solid?
+    const Vec2 probe = 0.5 * (segment.a + segment.b) + 1e-6 * h * segment.normal;
+    bool buried = false;
+    if (segment.body >= 0) {
+      buried = !strictly_inside_box(probe, interior_) && depth_inside(probe) > 0.0;
+    }
+    // (Tank sides stay whole: an obstacle on the bed covers part of the bed, not all of it.)
+    for (std::size_t k = 0; k < obstacles_.size() && !buried && segment.body >= 0; ++k) {
+      if (static_cast<int>(k) != segment.body && strictly_inside_box(probe, obstacles_[k])) buried = true;
+    }
+    if (!buried) segments_.push_back(segment);
+  }
+}
+
+double WallGeometry::depth_inside(const Vec2& x) const {
+  double depth = 0.0;
+  // Tank: behind a walled side's surface, unless past an open side (above an open top).
+  const bool past_open = (!walls_.left && x.x() < domain_.min.x()) || (!walls_.right && x.x() > domain_.max.x()) ||
+                         (!walls_.bottom && x.y() < domain_.min.y()) || (!walls_.top && x.y() > domain_.max.y());
+  // A tank side is a slab `layers` spacings thick (its wall particles): a particle beyond its
+  // outer face went over the crest and lies outside the tank, not in the wall.
+  const double thickness = walls_.layers * 2.0 * half_spacing_;
+  if (!past_open) {
+    for (const double d : {interior_.min.x() - x.x(), x.x() - interior_.max.x(), interior_.min.y() - x.y(),
+                           x.y() - interior_.max.y()}) {
+      if (d < thickness) depth = std::max(depth, d);
+    }
+  }
+  for (const Box& s : obstacles_) {
+    if (strictly_inside_box(x, s)) {
+      depth = std::max(depth, std::min({x.x() - s.min.x(), s.max.x() - x.x(), x.y() - s.min.y(), s.max.y() - x.y()}));
+    }
+  }
+  return depth;
+}
+
+bool WallGeometry::inside_solid(const Vec2& x) const { return depth_inside(x) > 0.0; }
+
+double WallGeometry::distance_to(const Vec2& x, std::size_t k) const {
+  const WallSegment& s = segments_[k];
+  const Vec2 along = s.b - s.a;
+  const double length2 = along.squaredNorm();
+  const double t = length2 > 0.0 ? std::clamp((x - s.a).dot(along) / length2, 0.0, 1.0) : 0.0;
+  return (x - (s.a + t * along)).norm();
+}
+
+double WallGeometry::distance(const Vec2& x, std::size_t* nearest) const {
+  double best = std::numeric_limits<double>::infinity();
+  for (std::size_t k = 0; k < segments_.size(); ++k) {
+    const double d = distance_to(x, k);
+    if (d < best) {
+      best = d;
+      if (nearest != nullptr) *nearest = k;
+    }
+  }
+  return best;
+}
+
+std::size_t reflect_crossed_particles(ParticleSet& particles, const WallGeometry& geometry) {
+  std::size_t moved = 0;
+  for (std::size_t i = 0; i < particles.size(); ++i) {
+    if (particles.type[i] != ParticleType::Fluid) continue;
+    Vec2& x = particles.position[i];
+    if (!(geometry.depth_inside(x) > 0.0)) continue;
+    std::size_t nearest = 0;
+    geometry.distance(x, &nearest);
+    const WallSegment& wall = geometry.segments()[nearest];
+    const double behind = (wall.a - x).dot(wall.normal);  // > 0: behind this surface
+    if (behind > 0.0) x += 2.0 * behind * wall.normal;
+    Vec2& u = particles.velocity[i];
+    const double normal_speed = u.dot(wall.normal);
+    if (normal_speed < 0.0) u -= normal_speed * wall.normal;
+    ++moved;
+  }
+  return moved;
+}
+
+}  // namespace mps_lab

@@ -1,0 +1,72 @@
+#pragma once
+// Wall samples: the wall as a method's operators see it when the boundary model does not put
+// wall particles into the ParticleSet (dummy_layers, mirror_particles, distance_function in
+// core/walls/; docs/walls.md).
+//
+// A boundary model fills, after each neighbour search, a list of samples per fluid particle i:
+// the points of the wall within the operator support of i. Every operator of every method
+// then adds, beside its sum over particle neighbours, the same sum over the samples of i,
+// with these rules:
+//   position   x_w                       (m)
+//   volume     V_w = volume l0^2         (a lattice point has volume 1: it counts as one
+//                                         particle in n_i, as m = rho0 V_w in an SPH sum)
+//   velocity   u_w = velocity_map u_s    (s = source; the zero matrix for a fixed wall,
+//                                         a reflection for a mirror image)
+//   pressure   p_w = p_s + rho0 g . (x_w - x_s)
+//              (hydrostatic extrapolation from the source particle s; Adami, Hu & Adams
+//               2012 eq. 27 with the fluid sum restricted to s; for s = i the wall terms
+//               of the PPE become known values)
+// s is i itself (dummy layers, distance function: a Neumann wall that carries the particle's
+// own pressure) or the fluid particle j the sample mirrors (mirror particles).
+#include <cstdint>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "core/base/types.hpp"
+
+namespace mps_lab {
+
+using Mat2 = Eigen::Matrix2d;
+
+struct WallSample {
+  Vec2 position = Vec2::Zero();               // x_w, m
+  Mat2 velocity_map = Mat2::Zero();           // u_w = velocity_map * u_source
+  std::uint32_t source = 0;                   // the particle whose pressure and velocity it carries
+  double volume = 1.0;                        // V_w / l0^2
+};
+
+// Compressed rows as NeighbourList: the samples of particle i are
+// samples[offsets[i] .. offsets[i+1]). Empty (no offsets) when the boundary model is made of
+// particles; then has_samples() is false and every operator skips the wall-sample sums.
+struct WallSampleList {
+  std::vector<std::uint32_t> offsets;
+  std::vector<WallSample> samples;
+
+  bool has_samples() const { return !offsets.empty(); }
+  std::uint32_t begin(std::size_t i) const { return offsets[i]; }
+  std::uint32_t end(std::size_t i) const { return offsets[i + 1]; }
+  void clear() {
+    offsets.clear();
+    samples.clear();
+  }
+};
+
+// p_w of a sample (see above), Pa.
+inline double sample_pressure(const WallSample& sample, const std::vector<double>& pressure,
+                              const std::vector<Vec2>& position, double rest_density, const Vec2& gravity) {
+  return pressure[sample.source] + rest_density * gravity.dot(sample.position - position[sample.source]);
+}
+
+// The hydrostatic part rho0 g . (x_w - x_s) alone, Pa: what the PPE moves to its right-hand side.
+inline double sample_pressure_offset(const WallSample& sample, const std::vector<Vec2>& position,
+                                     double rest_density, const Vec2& gravity) {
+  return rest_density * gravity.dot(sample.position - position[sample.source]);
+}
+
+// u_w of a sample, m/s.
+inline Vec2 sample_velocity(const WallSample& sample, const std::vector<Vec2>& velocity) {
+  return sample.velocity_map * velocity[sample.source];
+}
+
+}  // namespace mps_lab
