@@ -1,4 +1,5 @@
 #include "app/commands.hpp"
+#include "lab/data_directory.hpp"
 
 #include <csignal>
 #include <cstdio>
@@ -192,7 +193,7 @@ int compare_command(const CompareCommand& command) {
       std::fprintf(stderr, "mps_lab: figures and report skipped: %s cannot import numpy and matplotlib "
                            "(apt-get install python3-numpy python3-matplotlib)\n", MPS_LAB_PYTHON);
     } else {
-      const std::string script = std::string(MPS_LAB_SOURCE_DIR) + "/analysis/compare.py";
+      const std::string script = data_directory() + "/analysis/compare.py";
       const std::string call = "'" + python + "' '" + script + "' '" + out + "'" + (command.quiet ? " --quiet" : "");
       if (std::system(call.c_str()) != 0) {
         std::fprintf(stderr, "mps_lab: the analysis script failed: %s\n", call.c_str());

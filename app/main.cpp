@@ -13,11 +13,12 @@
 
 #include "app/commands.hpp"
 #include "core/base/error.hpp"
+#include "lab/data_directory.hpp"
 
 int main(int argc, char** argv) {
   CLI::App app{"mps_lab: a testbed comparing incompressible particle methods (MPS, ISPH, DFSPH) on the same scenes"};
   app.require_subcommand(1);
-  app.set_version_flag("--version", "mps_lab 0.1.0");
+  app.set_version_flag("--version", mps_lab::version_line());
 
   mps_lab::app::RunCommand run;
   auto* run_app = app.add_subcommand("run", "run one method on a scene; frames, series.csv and run.json in the output folder");

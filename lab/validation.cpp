@@ -1,5 +1,7 @@
 #include "lab/validation.hpp"
 
+#include "lab/data_directory.hpp"
+
 #include <cmath>
 #include <fstream>
 #include <limits>
@@ -99,7 +101,7 @@ Curve height_curve(const std::vector<double>& time, const std::vector<double>& h
 }
 
 std::string validation_data_path(const std::string& file_name) {
-  return std::string(MPS_LAB_SOURCE_DIR) + "/analysis/validation/" + file_name;
+  return data_directory() + "/analysis/validation/" + file_name;
 }
 
 }  // namespace mps_lab

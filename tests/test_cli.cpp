@@ -5,6 +5,7 @@
 
 #include <unistd.h>
 
+#include "core/run/driver.hpp"
 #include "support.hpp"
 
 using namespace mps_lab::testing;
@@ -30,6 +31,12 @@ TEST_CASE("mps_lab methods lists each method on one line", "[cli]") {
     CHECK_THAT(line, Catch::StartsWith(method->name + " ") && Catch::EndsWith(method->description));
   }
   CHECK(line_count(result.stdout_text) == registries().methods.all().size());
+}
+
+TEST_CASE("mps_lab --version names the version and the git revision of the build", "[cli]") {
+  const auto result = run_mps_lab("--version", "version");
+  CHECK(result.exit_code == 0);
+  CHECK(result.stdout_text == std::string("mps_lab ") + MPS_LAB_VERSION + " (git " + mps_lab::git_revision() + ")\n");
 }
 
 TEST_CASE("mps_lab run with --out, --set and --end-time", "[cli]") {
