@@ -28,4 +28,15 @@ echo "$header" | grep -q front_rms || { echo "summary.csv without front_rms: $he
 column=$(echo "$header" | tr ',' '\n' | grep -n '^front_rms$' | cut -d: -f1)
 value=$(echo "$row" | cut -d, -f"$column")
 case "$value" in ""|nan|NaN|-nan) echo "front_rms not computed: '$value'"; exit 1;; esac
-echo "install test: $version; front_rms to 0.2 s = $value"
+# Proof that the installed copy of the data is the one read (the source tree is also on this
+# machine): shift the installed experimental front by +1 in Z = z/a; the unshifted front RMS
+# against it must grow by about 1 (at least 0.5).
+data="$prefix/share/mps_lab/analysis/validation/martin_moyce_1952_n2_front.csv"
+awk -F, 'BEGIN{OFS=","} /^#/ || NR==0 {print; next} $1 ~ /^[0-9.]+$/ {$2 = $2 + 1.0} {print}' "$data" > "$data.new"
+mv "$data.new" "$data"
+"$prefix/bin/mps_lab" compare "$prefix/share/mps_lab/scenes/dambreak.json" --methods mps --end-time 0.2 \
+  --out "$prefix/run2" --no-analysis --quiet
+shifted=$(sed -n 2p "$prefix/run2/summary.csv" | cut -d, -f"$column")
+awk -v a="$value" -v b="$shifted" 'BEGIN { exit !(b - a > 0.5) }' \
+  || { echo "the installed binary did not read the installed data: front_rms $value, then $shifted"; exit 1; }
+echo "install test: $version; front_rms to 0.2 s = $value, against the shifted installed data $shifted"
