@@ -1,26 +1,26 @@
-#!/usr/bin/env python3
-"""Figures and a report comparing methods on one scene.
+"""The comparison report: figures and report.md comparing methods on one scene.
 
     /usr/bin/python3 analysis/compare.py RUNS_FOLDER [--runs A B ...] [--times 0.1 0.2 ...] [--quiet]
 
-RUNS_FOLDER is what `mps_lab compare` writes: one sub-folder per method (each a run folder
-with run.json and series.csv) and summary.csv. Without summary.csv (runs made one by one),
-the table is computed here with the same definitions. --runs takes run folders from
-anywhere instead of the sub-folders. Writes into RUNS_FOLDER:
+RUNS_FOLDER is what `mps_lab compare` writes (it then calls analysis/compare.py with it, from
+app/commands.cpp): one sub-folder per method (each a run folder with run.json and series.csv) and
+summary.csv. Without summary.csv (runs made one by one), the table is computed here with the
+same definitions. --runs takes run folders from anywhere instead of the sub-folders. Writes
+into RUNS_FOLDER:
 
     front.png  height.png  snapshots.png  wall_pressure.png  energy.png
     animation.mp4 (ffmpeg installed) or animation.gif    report.md
+
+Each method keeps its colour from the sorted list of the binary's methods (--binary, else
+MPS_LAB_BINARY, else build/mps_lab, else mps_lab on PATH; without any, from the runs' methods).
 """
 from __future__ import annotations
 
-import argparse
 import csv
 import os
 import sys
 
-sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-import figures  # noqa: E402
-import mps_lab_data as data  # noqa: E402
+from . import data, figures, methods
 
 DEFAULT_TIMES = [0.1, 0.2, 0.3, 0.5, 1.0, 2.0]
 
@@ -118,45 +118,67 @@ def write_report(root: str, runs: list[data.Run], rows: list[dict[str, str]], fi
     return path
 
 
-def main(argv: list[str] | None = None) -> int:
-    parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    parser.add_argument("root", help="folder with one run folder per method (what mps_lab compare writes)")
-    parser.add_argument("--runs", nargs="+", help="run folders to compare instead of the root's sub-folders")
-    parser.add_argument("--times", nargs="+", type=float, default=DEFAULT_TIMES, help="snapshot times [s]")
-    parser.add_argument("--no-animation", action="store_true", help="skip the animation")
-    parser.add_argument("--quiet", action="store_true")
-    args = parser.parse_args(argv)
+def draw_figures(root: str, runs: list[data.Run], times: list[float], animation: bool,
+                 styles: methods.MethodStyles) -> dict[str, str]:
+    """Every figure of the report into root: {key: path} of those written."""
+    written = {}
+    for key, draw in [("front", figures.plot_front), ("height", figures.plot_height), ("energy", figures.plot_energy)]:
+        written[key] = os.path.join(root, key + ".png")
+        draw(runs, written[key], styles)
+    written["snapshots"] = os.path.join(root, "snapshots.png")
+    figures.plot_snapshots(runs, times, written["snapshots"])
+    sensor_path = os.path.join(root, "wall_pressure.png")
+    if figures.plot_sensor(runs, sensor_path, styles):
+        written["wall_pressure"] = sensor_path
+    if animation:
+        written["animation"] = figures.make_animation(runs, os.path.join(root, "animation"))
+    return written
 
-    folders = args.runs or find_runs(args.root)
+
+def compare(root: str, run_folders: list[str] | None = None, times: list[float] = DEFAULT_TIMES,
+            animation: bool = True, quiet: bool = False, binary: str | None = None) -> int:
+    """The figures and report.md of the runs in root (or of run_folders); 0, or 2 when there
+    is nothing readable to compare (message on stderr)."""
+    folders = run_folders or find_runs(root)
     if not folders:
-        print(f"compare.py: {args.root}: no run folders (sub-folders with run.json)", file=sys.stderr)
+        print(f"compare.py: {root}: no run folders (sub-folders with run.json)", file=sys.stderr)
         return 2
     try:
         runs = [data.load_run(folder) for folder in folders]
     except (OSError, KeyError, ValueError) as error:
         print(f"compare.py: cannot read the runs: {error}", file=sys.stderr)
         return 2
-    os.makedirs(args.root, exist_ok=True)
+    os.makedirs(root, exist_ok=True)
     end = min(float(run.series["time"][-1]) for run in runs)
-    times = [t for t in args.times if t <= end + 1e-9] or [end]
-
-    written = {}
-    for key, draw in [("front", figures.plot_front), ("height", figures.plot_height), ("energy", figures.plot_energy)]:
-        written[key] = os.path.join(args.root, key + ".png")
-        draw(runs, written[key])
-    written["snapshots"] = os.path.join(args.root, "snapshots.png")
-    figures.plot_snapshots(runs, times, written["snapshots"])
-    sensor_path = os.path.join(args.root, "wall_pressure.png")
-    if figures.plot_sensor(runs, sensor_path):
-        written["wall_pressure"] = sensor_path
-    if not args.no_animation:
-        written["animation"] = figures.make_animation(runs, os.path.join(args.root, "animation"))
-    rows = summary_rows(args.root, runs)
-    report = write_report(args.root, runs, rows, written)
-    if not args.quiet:
+    shown = [t for t in times if t <= end + 1e-9] or [end]
+    styles = methods.styles_for([run.method for run in runs], binary)
+    written = draw_figures(root, runs, shown, animation, styles)
+    report = write_report(root, runs, summary_rows(root, runs), written)
+    if not quiet:
         print(f"compare.py: {len(written)} figures and {report}")
     return 0
 
 
-if __name__ == "__main__":
-    sys.exit(main())
+def plot_runs(run_folders: list[str], out: str, binary: str | None = None) -> int:
+    """front.png and height.png of several runs against Martin & Moyce, and their errors
+    printed (analysis/plot_run.py); 2 when a folder is not a readable run."""
+    runs = []
+    for folder in run_folders:
+        try:
+            runs.append(data.load_run(folder))
+        except (OSError, KeyError, ValueError) as error:
+            print(f"plot_run.py: {folder}: not a readable run folder ({error})", file=sys.stderr)
+            return 2
+    os.makedirs(out, exist_ok=True)
+    styles = methods.styles_for([run.method for run in runs], binary)
+    figures.plot_front(runs, os.path.join(out, "front.png"), styles)
+    figures.plot_height(runs, os.path.join(out, "height.png"), styles)
+    exp_t, exp_z = data.martin_moyce_front()
+    for run in runs:
+        t, z = run.front_curve()
+        rms, largest, points = data.curve_error(t, z, exp_t, exp_z)
+        shifted = data.best_shift_error(t, z, exp_t, exp_z)
+        print(f"{run.folder}: front RMS {rms:.3f} (max {largest:.3f}, {points} points); "
+              f"best shift {shifted[3]:+.3f} -> RMS {shifted[0]:.3f}")
+    print(f"figures: {os.path.join(out, 'front.png')}, {os.path.join(out, 'height.png')}")
+    return 0

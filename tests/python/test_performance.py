@@ -1,4 +1,4 @@
-"""The performance study (analysis/performance.py) on a tiny real study (--quick: the dam break
+"""The performance study (analysis/performance.py, mps_lab/studies/performance.py) on a tiny real study (--quick: the dam break
 at l0 = 0.025 for mps and isph, one bench resolution, scaling at l0 = 0.01 with 1 and 2
 threads): the CSV, JSON, tables and figures are written; the ratio against the reference
 figure is the measured speed over 0.23 M; the scaling summary's spread and the speed-ups on
@@ -14,7 +14,7 @@ import unittest
 
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 sys.path.insert(0, os.path.join(ROOT, "analysis"))
-import performance  # noqa: E402
+from mps_lab.studies import performance  # noqa: E402
 
 BINARY = os.environ.get("MPS_LAB_BINARY", os.path.join(ROOT, "build", "mps_lab"))
 
@@ -24,14 +24,16 @@ class PerformanceStudyTest(unittest.TestCase):
         with tempfile.TemporaryDirectory() as out:
             subprocess.run([sys.executable, os.path.join(ROOT, "analysis", "performance.py"), "--out", out, "--quick",
                             "--binary", BINARY], check=True, capture_output=True)
-            rows = list(csv.DictReader(open(os.path.join(out, "reference.csv"))))
+            with open(os.path.join(out, "reference.csv"), newline="") as handle:
+                rows = list(csv.DictReader(handle))
             self.assertEqual([(r["method"], float(r["particle_spacing"])) for r in rows],
                              [("mps", 0.025), ("isph", 0.025)])
             for row in rows:
                 self.assertEqual(row["status"], "completed")
                 self.assertEqual(int(row["steps"]), 40)  # 0.02 s at 5e-4 s
                 self.assertGreater(float(row["ms_pressure_solve"]), 0.0)
-            table = open(os.path.join(out, "performance.md")).read()
+            with open(os.path.join(out, "performance.md")) as handle:
+                table = handle.read()
             speed = float(rows[0]["particle_steps_per_second"])
             self.assertIn(f"{speed / 0.23e6:.2f}x", table)
             self.assertIn("## Scaling", table)

@@ -1,4 +1,3 @@
-#!/usr/bin/env python3
 """Performance study (issue 7; docs/performance.md): speed against the public reference codes,
 where the time goes, O(N) scaling to a million particles, threads and memory.
 
@@ -7,13 +6,19 @@ where the time goes, O(N) scaling to a million particles, threads and memory.
     /usr/bin/python3 analysis/performance.py --out runs/performance --only figures --docs
     /usr/bin/python3 analysis/performance.py --out /tmp/perf --quick            # seconds (tests)
 
+The runs, the reference figures and the bench settings per method are data:
+analysis/sweeps/performance.json (--plan another). The methods come from the binary
+(`mps_lab methods`): a planned run of a method it does not register is left out, and bench
+measures every registered method. Every case runs through the case runner
+(mps_lab/runner.py: arguments, --timeout per case, one retry after a crash).
+
 Parts (--only picks some; each writes into --out and is reused by the later ones):
   reference    whole runs as the reference figures were taken (`mps_lab run`, 2 threads,
-               the scenes' own output, splashes allowed up to 50 %): mps and isph on the dam break at l0 = 0.025, 0.0125
-               (time step 2.5e-4 s) to 2 s and at 0.005 (scenes/dambreak_fine.json) to 1 s;
-               dfsph at l0 = 0.005 with density tolerance 0.1 % and 0.01 %, and at 0.0025 with
-               0.1 %, to 1 s. -> reference.csv (one row per run: fluid particle-steps per second,
-               mean iterations, ms per step of every phase from run.json's profile).
+               the scenes' own output, splashes allowed up to 50 %): the plan's
+               reference_runs (the dam break at l0 = 0.025, 0.0125 and 0.005 to 2 s or 1 s,
+               the last at two density tolerances) -> reference.csv (one row per run: fluid
+               particle-steps per second, mean iterations, ms per step of every phase from
+               run.json's profile), with the ratio to the plan's reference_figures.
   resolutions  `mps_lab bench` at l0 = 0.025, 0.0125, 0.005, 0.0025 (time step 0.02 s/m x l0),
                after running to 0.02 s, 40 measured steps -> resolutions.json.
   scaling      `mps_lab bench` from about 1e3 to --max-fluid fluid particles (l0 = 0.05/k,
@@ -29,100 +34,105 @@ down many-fold when another process runs); measure on an otherwise idle machine.
 """
 from __future__ import annotations
 
-import argparse
 import csv
 import json
-import math
-import os
 import shutil
-import subprocess
 import sys
 from pathlib import Path
 
-ROOT = Path(__file__).resolve().parent.parent
-METHODS = ["mps", "isph", "dfsph"]
+from .. import SOURCE_ROOT, methods, runner
+from .common import SpecError, load_json
 
-# Reference figures of issue 7 (fluid particle-steps per second, 2 threads, same dam break).
-REFERENCE = {
-    ("MPS-Basic", 0.025, None): 0.23e6,
-    ("MPS-Basic", 0.0125, None): 0.22e6,
-    ("MPS-Basic", 0.005, None): 0.12e6,
-    ("SPlisHSPlasH DFSPH", 0.005, 1e-3): 1.35e6,
-    ("SPlisHSPlasH DFSPH", 0.0025, 1e-3): 1.96e6,
-    ("SPlisHSPlasH DFSPH", 0.005, 1e-4): 0.5e6,
-}
-
-DFSPH_MAX_STEP_PER_SPACING = 1.0  # s/m
+ROOT = Path(SOURCE_ROOT)
+DEFAULT_PLAN = ROOT / "analysis" / "sweeps" / "performance.json"
+DEFAULT_TIMEOUT = 6 * 3600.0  # s per run or bench: above the longest planned run; it stops a hung one
+PROC_BIND = "true"  # unpinned threads on this machine class slow down many-fold under load
 
 # Spacings l0 = 0.05 / k (the tank and the column are whole multiples): about 1e3 ... 1e6 fluid.
 SCALING_K = [5, 9, 16, 28, 50, 90, 142]
+
+
+class StudyError(Exception):
+    """A run or bench of the study failed; the message is one line."""
 
 
 def fluid_count(spacing: float) -> int:
     return (round(0.25 / spacing) - 1) * (round(0.5 / spacing) - 1)
 
 
-def binary_path(arg: str | None) -> str:
-    path = arg or os.environ.get("MPS_LAB_BINARY") or str(ROOT / "build" / "mps_lab")
-    if not Path(path).exists():
-        sys.exit(f"performance.py: no mps_lab binary at {path} (build it: tools/build.sh, or pass --binary)")
-    return path
+def load_plan(path: str | Path) -> dict:
+    """The study's plan (analysis/sweeps/performance.json), checked; raises SpecError."""
+    plan = load_json(str(path))
+    known = {"description", "set", "quick_end_time", "reference_runs", "reference_figures", "bench_per_spacing"}
+    for key in plan:
+        if key not in known:
+            raise SpecError(f"{path}: {key}: unknown key (expected one of: {', '.join(sorted(known))})")
+    for k, run in enumerate(plan.get("reference_runs", [])):
+        for key in ("method", "scene", "particle_spacing", "end_time"):
+            if key not in run:
+                raise SpecError(f"{path}: reference_runs[{k}].{key}: missing")
+    return plan
 
 
-def environment(threads: int | None = None) -> dict:
-    env = dict(os.environ)
-    env["OMP_PROC_BIND"] = "true"
-    if threads is not None:
-        env["OMP_NUM_THREADS"] = str(threads)
-    return env
+def method_of_key(key: str) -> str | None:
+    """The method a scene key belongs to ("methods.<name>.x=..." -> name), None for a shared key."""
+    parts = key.split(".")
+    return parts[1] if len(parts) > 2 and parts[0] == "methods" else None
 
 
-def reference_cases(quick: bool) -> list[dict]:
-    end_long, end_fine = (0.02, 0.01) if quick else (2.0, 1.0)
-    cases = []
-    for method in ["mps", "isph"]:
-        cases.append(dict(method=method, scene="scenes/dambreak.json", spacing=0.025, tolerance=None,
-                          sets=[], end=end_long))
-        cases.append(dict(method=method, scene="scenes/dambreak.json", spacing=0.0125, tolerance=None,
-                          sets=["particle_spacing=0.0125", "time.time_step=2.5e-4"], end=end_long))
-        cases.append(dict(method=method, scene="scenes/dambreak_fine.json", spacing=0.005, tolerance=None,
-                          sets=[], end=end_fine))
-    for spacing, tolerance in [(0.005, 1e-3), (0.005, 1e-4), (0.0025, 1e-3)]:
-        sets = [f"methods.dfsph.density_tolerance={tolerance}"]
-        if spacing != 0.005:
-            sets += [f"particle_spacing={spacing}", "time.time_step=5e-5",
-                     f"methods.dfsph.max_time_step={DFSPH_MAX_STEP_PER_SPACING * spacing:g}"]
-        cases.append(dict(method="dfsph", scene="scenes/dambreak_fine.json", spacing=spacing, tolerance=tolerance,
-                          sets=sets, end=end_fine))
+def reference_cases(plan: dict, registered: list[str], quick: bool) -> list[dict]:
+    """The plan's reference runs of registered methods (--quick: those marked quick, short)."""
+    cases = [dict(run) for run in plan.get("reference_runs", []) if run["method"] in registered]
+    left_out = sorted({run["method"] for run in plan.get("reference_runs", [])} - set(registered))
+    if left_out:
+        print(f"performance.py: reference runs of {', '.join(left_out)} left out: not registered", flush=True)
     if quick:
-        cases = [c for c in cases if c["spacing"] == 0.025]
+        cases = [dict(run, end_time=plan.get("quick_end_time", 0.02)) for run in cases if run.get("quick")]
     return cases
 
 
-def run_reference(binary: str, out: Path, quick: bool) -> None:
+def reference_figure(plan: dict, method: str, spacing: float, tolerance: float | None) -> dict | None:
+    """The reference code's figure for a run ({"code", "particle_steps_per_second"}), if any."""
+    return next((figure for figure in plan.get("reference_figures", []) if figure["method"] == method
+                 and float(figure["particle_spacing"]) == spacing and figure.get("density_tolerance") == tolerance),
+                None)
+
+
+def case_name(case: dict) -> str:
+    tolerance = case.get("density_tolerance")
+    return f"{case['method']}_{case['particle_spacing']}" + (f"_tol{tolerance}" if tolerance else "")
+
+
+def reference_row(case: dict, run: dict) -> dict:
+    """One row of reference.csv from a run's run.json."""
+    row = dict(method=case["method"], particle_spacing=case["particle_spacing"],
+               density_tolerance=case.get("density_tolerance") or "", fluid_particles=run["particles"]["fluid"],
+               end_time=case["end_time"], steps=run["steps"], wall_seconds=run["wall_seconds"],
+               particle_steps_per_second=run["fluid_particle_steps_per_second"],
+               mean_iterations=run["solver"]["mean_iterations"], status=run["status"],
+               bytes_per_particle=run["memory"]["bytes_per_particle"])
+    for phase, values in run["profile"]["phases"].items():
+        row[f"ms_{phase}"] = values["milliseconds_per_step"]
+    return row
+
+
+def run_reference(binary: str, plan: dict, registered: list[str], out: Path, quick: bool, timeout: float) -> None:
     rows = []
-    for case in reference_cases(quick):
-        name = f"{case['method']}_{case['spacing']}" + (f"_tol{case['tolerance']}" if case["tolerance"] else "")
-        folder = out / "reference" / name
-        # Splashes over the open top are not a failure of a speed run (MPS at l0 = 0.0125 sends
-        # 5.1 % of its fluid over the top by 0.68 s, past the monitor's default 5 %).
-        command = [binary, "run", f"--method={case['method']}", str(ROOT / case["scene"]), "-q", "--out", str(folder),
-                   "--end-time", str(case["end"]), "--set", "stability.max_escaped_fraction=0.5"]
-        for item in case["sets"]:
-            command += ["--set", item]
-        print("performance.py:", " ".join(command[1:]), flush=True)
-        subprocess.run(command, check=False, env=environment(2))  # a run that stops early is reported
-        run = json.loads((folder / "run.json").read_text())
-        profile = run["profile"]
-        row = dict(method=case["method"], particle_spacing=case["spacing"],
-                   density_tolerance=case["tolerance"] or "", fluid_particles=run["particles"]["fluid"],
-                   end_time=case["end"], steps=run["steps"], wall_seconds=run["wall_seconds"],
-                   particle_steps_per_second=run["fluid_particle_steps_per_second"],
-                   mean_iterations=run["solver"]["mean_iterations"], status=run["status"],
-                   bytes_per_particle=run["memory"]["bytes_per_particle"])
-        for phase, values in profile["phases"].items():
-            row[f"ms_{phase}"] = values["milliseconds_per_step"]
-        rows.append(row)
+    for case in reference_cases(plan, registered, quick):
+        folder = out / "reference" / case_name(case)
+        arguments = ["run", f"--method={case['method']}", str(ROOT / case["scene"]), "-q", "--out", str(folder),
+                     "--end-time", str(case["end_time"])]
+        for item in plan.get("set", []) + case.get("set", []):
+            arguments += ["--set", item]
+        print("performance.py:", " ".join(arguments), flush=True)
+        # a run that stops early (exit 1) is reported with its status, not an error
+        result = runner.run_case(binary, arguments, timeout=timeout, threads=2, proc_bind=PROC_BIND,
+                                 folder=str(folder))
+        try:
+            run = json.loads((folder / "run.json").read_text())
+        except (OSError, json.JSONDecodeError) as error:
+            raise StudyError(f"{folder}: no run.json ({result.describe()}: {result.last_error_line()})") from error
+        rows.append(reference_row(case, run))
     columns = []
     for row in rows:
         columns += [key for key in row if key not in columns]
@@ -132,25 +142,34 @@ def run_reference(binary: str, out: Path, quick: bool) -> None:
         writer.writerows(rows)
 
 
-def bench(binary: str, arguments: list[str], json_path: Path) -> dict:
-    # DFSPH's largest CFL step scales with l0 (1.0 s/m: SPlisHSPlasH's 5e-3 s at l0 = 0.005); a
-    # fixed 5e-3 s makes the first steps from rest diverge below l0 = 0.0025 (docs/performance.md).
-    command = [binary, "bench", str(ROOT / "scenes" / "dambreak.json"), "-q", "--json", str(json_path),
-               "--per-spacing", f"methods.dfsph.max_time_step={DFSPH_MAX_STEP_PER_SPACING}"] + arguments
-    print("performance.py:", " ".join(command[1:]), flush=True)
-    result = subprocess.run(command, check=True, env=environment(), capture_output=True, text=True)
+def bench(binary: str, arguments: list[str], json_path: Path, per_spacing: list[str], timeout: float) -> dict:
+    """One `mps_lab bench` (every registered method) into json_path; raises StudyError."""
+    command = ["bench", str(ROOT / "scenes" / "dambreak.json"), "-q", "--json", str(json_path)]
+    for item in per_spacing:
+        command += ["--per-spacing", item]
+    command += arguments
+    print("performance.py:", " ".join(command), flush=True)
+    result = runner.run_case(binary, command, timeout=timeout, proc_bind=PROC_BIND)
+    if not result.ok:
+        raise StudyError(f"mps_lab {' '.join(command)}: {result.describe()}: {result.last_error_line()}")
     print(result.stdout, flush=True)
     return json.loads(json_path.read_text())
 
 
-def run_resolutions(binary: str, out: Path, quick: bool) -> None:
+def bench_per_spacing(plan: dict, registered: list[str]) -> list[str]:
+    """The plan's per-spacing keys of registered methods (bench rejects a key of another)."""
+    return [item for item in plan.get("bench_per_spacing", []) if method_of_key(item) in (None, *registered)]
+
+
+def run_resolutions(binary: str, per_spacing: list[str], out: Path, quick: bool, timeout: float) -> None:
     spacings = "0.025" if quick else "0.025,0.0125,0.005,0.0025"
     steps = ["--steps", "3", "--warmup-steps", "1"] if quick else ["--steps", "40", "--warmup-steps", "5",
                                                                     "--start-time", "0.02"]
-    bench(binary, ["--spacings", spacings, "--threads", "2"] + steps, out / "resolutions.json")
+    bench(binary, ["--spacings", spacings, "--threads", "2"] + steps, out / "resolutions.json", per_spacing, timeout)
 
 
-def run_scaling(binary: str, out: Path, max_fluid: float, quick: bool) -> None:
+def run_scaling(binary: str, per_spacing: list[str], out: Path, max_fluid: float, quick: bool,
+                timeout: float) -> None:
     ks = [5] if quick else [k for k in SCALING_K if fluid_count(0.05 / k) <= max_fluid * 1.01]
     cases = []
     for k in ks:
@@ -159,7 +178,7 @@ def run_scaling(binary: str, out: Path, max_fluid: float, quick: bool) -> None:
         steps = ["--steps", "2", "--warmup-steps", "1"] if quick else \
             ["--steps", "5" if large else "10", "--warmup-steps", "3"]
         part = bench(binary, ["--spacings", repr(spacing), "--threads", "1,2"] + steps,
-                     out / f"scaling_k{k}.json")
+                     out / f"scaling_k{k}.json", per_spacing, timeout)
         cases += part["cases"]
     (out / "scaling.json").write_text(json.dumps({"cases": cases}, indent=1) + "\n")
 
@@ -168,10 +187,15 @@ def load_cases(path: Path) -> list[dict]:
     return json.loads(path.read_text())["cases"] if path.exists() else []
 
 
+def methods_in(cases: list[dict]) -> list[str]:
+    """The methods measured in bench cases, sorted (bench runs every registered method)."""
+    return sorted({c["method"] for c in cases if c.get("kind") == "steps" and "method" in c})
+
+
 def scaling_summary(cases: list[dict]) -> list[dict]:
     """Per method and thread count: ns per particle-step at each size, and the spread around the median."""
     rows = []
-    for method in METHODS:
+    for method in methods_in(cases):
         for threads in (1, 2):
             points = sorted((c["fluid_particles"], c["nanoseconds_per_particle_step"]) for c in cases
                             if c.get("kind") == "steps" and c.get("method") == method and c.get("threads") == threads
@@ -196,19 +220,22 @@ def speedups(cases: list[dict]) -> list[tuple]:
     return out
 
 
-def markdown(out: Path) -> str:
+def reference_table(out: Path, plan: dict) -> list[str]:
+    """The whole runs against the reference codes' figures, and their phases."""
     lines = []
     reference_csv = out / "reference.csv"
     if reference_csv.exists():
-        rows = list(csv.DictReader(open(reference_csv)))
+        with open(reference_csv, newline="") as handle:
+            rows = list(csv.DictReader(handle))
         lines += ["## Whole runs against the reference figures (2 threads)", "",
                   "| method | l0 [m] | density tol. | fluid | steps | wall [s] | particle-steps/s | reference | ratio | mean iter. |",
                   "|---|---|---|---|---|---|---|---|---|---|"]
         for row in rows:
             spacing = float(row["particle_spacing"])
             tolerance = float(row["density_tolerance"]) if row["density_tolerance"] else None
-            code = "MPS-Basic" if row["method"] == "mps" else "SPlisHSPlasH DFSPH" if row["method"] == "dfsph" else None
-            reference = REFERENCE.get((code, spacing, tolerance))
+            figure = reference_figure(plan, row["method"], spacing, tolerance)
+            code = figure["code"] if figure else None
+            reference = float(figure["particle_steps_per_second"]) if figure else None
             speed = float(row["particle_steps_per_second"])
             lines.append(f"| {row['method']} | {spacing:g} | {'' if tolerance is None else f'{100 * tolerance:g} %'} | "
                          f"{row['fluid_particles']} | {row['steps']} | {float(row['wall_seconds']):.1f} | "
@@ -223,6 +250,12 @@ def markdown(out: Path) -> str:
             cells = [f"{float(row['ms_' + p]):.3f}" if row.get("ms_" + p) else "" for p in phases]
             lines.append(f"| {row['method']} | {float(row['particle_spacing']):g} | {tolerance} | " + " | ".join(cells) + " |")
         lines.append("")
+    return lines
+
+
+def resolutions_table(out: Path) -> list[str]:
+    """`mps_lab bench` at the four resolutions: speed, phases, kernels."""
+    lines = []
     resolutions = load_cases(out / "resolutions.json")
     if resolutions:
         lines += ["## `mps_lab bench` at the four resolutions (2 threads, 40 steps after t = 0.02 s)", "",
@@ -245,6 +278,12 @@ def markdown(out: Path) -> str:
                              f"{c['neighbour_search_ns_per_particle']:.1f} | {c['number_density_ns_per_particle']:.1f} | "
                              f"{c['sph_density_ns_per_particle']:.1f} |")
         lines.append("")
+    return lines
+
+
+def scaling_tables(out: Path) -> list[str]:
+    """ns per particle-step against size, iterations, speed-up, memory."""
+    lines = []
     scaling = load_cases(out / "scaling.json")
     if scaling:
         lines += ["## Scaling (ns per fluid particle-step; bench from rest)", "",
@@ -260,7 +299,7 @@ def markdown(out: Path) -> str:
                          f" | {100 * row['low']:+.0f} % / {100 * row['high']:+.0f} % |")
         lines += ["", "Mean solver iterations per step (2 threads):", "",
                   "| method | " + " | ".join(f"{n:,}" for n in sizes) + " |", "|---|" + "---|" * len(sizes)]
-        for method in METHODS:
+        for method in methods_in(scaling):
             values = {c["fluid_particles"]: c["mean_solver_iterations"] for c in scaling
                       if c["kind"] == "steps" and c["method"] == method and c["threads"] == 2 and c["status"] == "completed"}
             if values:
@@ -270,32 +309,36 @@ def markdown(out: Path) -> str:
             lines.append(f"| {method} | {fluid:,} | {ratio:.2f} |")
         lines += ["", "Memory held by the simulation (resident, bytes per particle, 2 threads):", "",
                   "| method | " + " | ".join(f"{n:,}" for n in sizes) + " |", "|---|" + "---|" * len(sizes)]
-        for method in METHODS:
+        for method in methods_in(scaling):
             values = {c["fluid_particles"]: c["memory_bytes_per_particle"] for c in scaling
                       if c["kind"] == "steps" and c["method"] == method and c["threads"] == 2 and c["status"] == "completed"}
             if values:
                 lines.append(f"| {method} | " + " | ".join(f"{values[n]:.0f}" if n in values else "" for n in sizes) + " |")
         lines.append("")
-    return "\n".join(lines)
+    return lines
 
 
-def figures(out: Path) -> None:
+def markdown(out: Path, plan: dict) -> str:
+    return "\n".join(reference_table(out, plan) + resolutions_table(out) + scaling_tables(out))
+
+
+def figures(out: Path, styles: methods.MethodStyles) -> None:
+    """performance_scaling.png and performance_phases.png from the JSON of the bench parts."""
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    colours = {"mps": "tab:blue", "isph": "tab:orange", "dfsph": "tab:green"}
     scaling = load_cases(out / "scaling.json")
     if scaling:
         fig, ax = plt.subplots(figsize=(7, 4.5))
         for row in scaling_summary(scaling):
             xs, ys = zip(*row["points"])
             style = "-o" if row["threads"] == 2 else "--s"
-            ax.plot(xs, ys, style, color=colours[row["method"]], label=f"{row['method']}, {row['threads']} thread(s)",
+            ax.plot(xs, ys, style, color=styles.colour(row["method"]), label=f"{row['method']}, {row['threads']} thread(s)",
                     markersize=4)
             if row["threads"] == 2:
                 ax.fill_between([min(xs), max(xs)], 0.7 * row["median"], 1.3 * row["median"],
-                                color=colours[row["method"]], alpha=0.08)
+                                color=styles.colour(row["method"]), alpha=0.08)
         ax.set_xscale("log")
         ax.set_yscale("log")
         ax.set_xlabel("fluid particles")
@@ -329,37 +372,47 @@ def figures(out: Path) -> None:
         plt.close(fig)
 
 
-def main() -> None:
-    parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    parser.add_argument("--out", default="runs/performance")
-    parser.add_argument("--binary")
-    parser.add_argument("--only", nargs="+", choices=["reference", "resolutions", "scaling", "figures"])
-    parser.add_argument("--max-fluid", type=float, default=1.1e6)
-    parser.add_argument("--quick", action="store_true", help="tiny cases, for the tests")
-    parser.add_argument("--docs", action="store_true", help="copy the results into docs/data and docs/figures")
-    args = parser.parse_args()
-    out = Path(args.out)
-    out.mkdir(parents=True, exist_ok=True)
-    parts = args.only or ["reference", "resolutions", "scaling", "figures"]
-    if any(part != "figures" for part in parts):
-        binary = binary_path(args.binary)
-    if "reference" in parts:
-        run_reference(binary, out, args.quick)
-    if "resolutions" in parts:
-        run_resolutions(binary, out, args.quick)
-    if "scaling" in parts:
-        run_scaling(binary, out, args.max_fluid, args.quick)
-    (out / "performance.md").write_text(markdown(out) + "\n")
-    figures(out)
-    if args.docs:
-        for name in ["reference.csv", "resolutions.json", "scaling.json", "performance.md"]:
-            if (out / name).exists():
-                shutil.copy(out / name, ROOT / "docs" / "data" / ("performance_" + name if not name.startswith("performance") else name))
-        for name in ["performance_scaling.png", "performance_phases.png"]:
-            if (out / name).exists():
-                shutil.copy(out / name, ROOT / "docs" / "figures" / name)
-    print(f"performance.py: results in {out}/performance.md", flush=True)
+def copy_to_docs(out: Path) -> None:
+    for name in ["reference.csv", "resolutions.json", "scaling.json", "performance.md"]:
+        if (out / name).exists():
+            target = name if name.startswith("performance") else "performance_" + name
+            shutil.copy(out / name, ROOT / "docs" / "data" / target)
+    for name in ["performance_scaling.png", "performance_phases.png"]:
+        if (out / name).exists():
+            shutil.copy(out / name, ROOT / "docs" / "figures" / name)
 
 
-if __name__ == "__main__":
-    main()
+def performance(out: str, binary: str | None = None, only: list[str] | None = None, max_fluid: float = 1.1e6,
+                quick: bool = False, docs: bool = False, timeout: float = DEFAULT_TIMEOUT,
+                plan_path: str | Path = DEFAULT_PLAN) -> int:
+    """The study (module docstring); 0, 2 for a bad plan or no binary, 1 when a part failed."""
+    folder = Path(out)
+    folder.mkdir(parents=True, exist_ok=True)
+    parts = only or ["reference", "resolutions", "scaling", "figures"]
+    found = None
+    try:
+        plan = load_plan(plan_path)
+        if any(part != "figures" for part in parts):
+            found = runner.find_binary(binary)
+            registered = methods.registered_methods(found)
+    except (SpecError, runner.BinaryNotFound, methods.MethodListError) as error:
+        print(f"performance.py: {error}", file=sys.stderr)
+        return 2
+    try:
+        if "reference" in parts:
+            run_reference(found, plan, registered, folder, quick, timeout)
+        per_spacing = bench_per_spacing(plan, registered) if found else []
+        if "resolutions" in parts:
+            run_resolutions(found, per_spacing, folder, quick, timeout)
+        if "scaling" in parts:
+            run_scaling(found, per_spacing, folder, max_fluid, quick, timeout)
+    except StudyError as error:
+        print(f"performance.py: {error}", file=sys.stderr)
+        return 1
+    (folder / "performance.md").write_text(markdown(folder, plan) + "\n")
+    seen = methods_in(load_cases(folder / "scaling.json") + load_cases(folder / "resolutions.json"))
+    figures(folder, methods.styles_for(seen, found or binary))
+    if docs:
+        copy_to_docs(folder)
+    print(f"performance.py: results in {folder}/performance.md", flush=True)
+    return 0

@@ -1,18 +1,20 @@
-#!/usr/bin/env python3
 """The stability map: where each method breaks on the dam break, and how.
 
     /usr/bin/python3 analysis/stability_map.py analysis/sweeps/stability.json --out runs/stability_map
     /usr/bin/python3 analysis/stability_map.py SPEC.json --out DIR --parallel 2 --binary build/mps_lab
     /usr/bin/python3 analysis/stability_map.py SPEC.json --out DIR --collect      # only collect and plot
 
+Every map's method must be registered in the binary (`mps_lab methods`); cases run through
+the case runner (mps_lab/runner.py: arguments, --timeout per case, one retry after a crash).
+
 For every map of SPEC (a method with a time-step axis; format in docs/stability.md, example
 analysis/sweeps/stability.json) the grid time step x particle spacing l0 is run, each case an
 ordinary `mps_lab run` to SPEC's end_time. The time step is a Courant number C = U dt / l0
-with U = reference_speed = sqrt(2 g H) (analysis/sweep.py's "courant" rule, which this
-script reuses with the rest of sweep.py's grid, run and resume machinery), or, for DFSPH's
-adaptive rule, its cfl_number (dt = cfl l0 / v_max). A case whose run.json says completed,
-diverged, solver_failed or failed is finished and is not run again, so an interrupted map
-resumes (an "interrupted" or unfinished case runs again from t = 0). Cases run --parallel at
+with U = reference_speed = sqrt(2 g H) (the sweep's "courant" rule, studies/sweep.py, whose
+grid, run and resume machinery this study reuses), or, for a method with an adaptive rule,
+its cfl_number (methods.<method>.cfl_number: dt = cfl l0 / v_max). A case whose run.json says
+completed, diverged, solver_failed or failed is finished and is not run again, so an
+interrupted map resumes (an "interrupted" or unfinished case runs again from t = 0). Cases run --parallel at
 a time, longest first, with OMP_NUM_THREADS = cores / parallel. SPEC's min_courant leaves
 out the fixed steps below C at a spacing (the dearest cases, far below every limit).
 
@@ -43,16 +45,15 @@ that stopped them; a dashed line at the upper edge of the stable band.
 """
 from __future__ import annotations
 
-import argparse
-import csv
-import json
 import math
 import os
 import sys
 
-sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-import sweep  # noqa: E402
+from .. import methods, runner
+from . import sweep
+from .common import FINISHED, SpecError, case_folder, check_methods, load_json, status_of, write_csv
 
+DEFAULT_TIMEOUT = 3 * 3600.0  # s per case: far above any case of analysis/sweeps/stability.json; it stops a hung case
 COLUMNS = ["map", "method", "rule", "l0", "courant", "dt", "status", "stop_event", "stop_time", "first_event",
            "first_event_time", "steps", "simulated_time", "wall_seconds", "fluid_particles", "mean_solver_iterations",
            "max_courant", "front_rms", "front_rms_shifted", "front_best_shift", "message", "name"]
@@ -70,37 +71,33 @@ REASON_WORDS = [("non-finite", "non_finite"), ("Courant number", "courant"), ("c
 # --- the grid ------------------------------------------------------------------------------
 
 def load_spec(path: str) -> dict:
-    """The map specification, checked; raises sweep.SpecError with one line."""
-    try:
-        with open(path) as handle:
-            spec = json.load(handle)
-    except (OSError, json.JSONDecodeError) as error:
-        raise sweep.SpecError(f"{path}: {error}") from error
+    """The map specification, checked; raises SpecError with one line."""
+    spec = load_json(path)
     known = {"description", "scene", "end_time", "spacings", "reference_speed", "set", "min_courant", "maps"}
     for key in spec:
         if key not in known:
-            raise sweep.SpecError(f"{path}: {key}: unknown key (expected one of: {', '.join(sorted(known))})")
+            raise SpecError(f"{path}: {key}: unknown key (expected one of: {', '.join(sorted(known))})")
     for key in ("scene", "spacings", "maps"):
         if key not in spec:
-            raise sweep.SpecError(f"{path}: {key}: missing")
+            raise SpecError(f"{path}: {key}: missing")
     try:
         floors = {float(l0): float(c) for l0, c in spec.get("min_courant", {}).items()}
     except (AttributeError, TypeError, ValueError) as error:
-        raise sweep.SpecError(f"{path}: min_courant: expected an object {{\"l0\": C}} ({error})") from error
+        raise SpecError(f"{path}: min_courant: expected an object {{\"l0\": C}} ({error})") from error
     if any(c <= 0 for c in floors.values()):
-        raise sweep.SpecError(f"{path}: min_courant: expected numbers > 0")
+        raise SpecError(f"{path}: min_courant: expected numbers > 0")
     for name, entry in spec["maps"].items():
         where = f"{path}: maps.{name}"
         for key in entry:
             if key not in MAP_KEYS:
-                raise sweep.SpecError(f"{where}.{key}: unknown key (expected one of: {', '.join(sorted(MAP_KEYS))})")
+                raise SpecError(f"{where}.{key}: unknown key (expected one of: {', '.join(sorted(MAP_KEYS))})")
         if "method" not in entry:
-            raise sweep.SpecError(f"{where}.method: missing")
+            raise SpecError(f"{where}.method: missing")
         if ("courant" in entry) == ("cfl_number" in entry):
-            raise sweep.SpecError(f"{where}: expected exactly one of courant, cfl_number (the time-step axis)")
+            raise SpecError(f"{where}: expected exactly one of courant, cfl_number (the time-step axis)")
         axis = entry.get("courant", entry.get("cfl_number"))
         if not axis or any(not isinstance(c, (int, float)) or c <= 0 for c in axis):
-            raise sweep.SpecError(f"{where}: expected a non-empty array of numbers > 0 as the time-step axis")
+            raise SpecError(f"{where}: expected a non-empty array of numbers > 0 as the time-step axis")
     return spec
 
 
@@ -111,7 +108,7 @@ def sweep_spec_of(spec: dict, name: str) -> dict:
     if "courant" in entry:
         rules = [{"name": f"C_{c:g}", "courant": c, "set": overrides} for c in entry["courant"]]
     else:
-        rules = [{"name": f"cfl_{c:g}", "set": {**overrides, "methods.dfsph.cfl_number": c}}
+        rules = [{"name": f"cfl_{c:g}", "set": {**overrides, f"methods.{entry['method']}.cfl_number": c}}
                  for c in entry["cfl_number"]]
     result = {key: spec[key] for key in ("scene", "end_time", "reference_speed") if key in spec}
     result["spacings"] = entry.get("spacings", spec["spacings"])
@@ -169,11 +166,11 @@ def first_event_of(summary: dict) -> tuple[str, float]:
 
 def row_of(case: dict, out: str) -> dict:
     """One row of stability.csv."""
-    folder = os.path.join(out, "cases", case["name"])
+    folder = case_folder(out, case["name"])
     row = {key: case[key] for key in ("map", "method", "rule", "l0", "courant", "name")}
     row["dt"] = case["overrides"].get("time.time_step", math.nan)
-    row["status"] = sweep.status_of(out, case)
-    if row["status"] not in sweep.FINISHED:
+    row["status"] = status_of(out, case)
+    if row["status"] not in FINISHED:
         return row
     run, measured = sweep.measure(folder, row["status"])
     row.update(measured)
@@ -238,20 +235,6 @@ def largest_stable(rows: list[dict]) -> list[dict]:
         })
     order = {name: k for k, name in enumerate(dict.fromkeys(r["map"] for r in rows))}
     return sorted(summary, key=lambda s: (order[s["map"]], -s["l0"]))
-
-
-def write_csv(rows: list[dict], columns: list[str], path: str) -> None:
-    """Atomically, NaN as an empty cell."""
-    def cell(value):
-        return "" if isinstance(value, float) and math.isnan(value) else value
-
-    temporary = path + ".tmp"
-    with open(temporary, "w", newline="") as handle:
-        writer = csv.DictWriter(handle, fieldnames=columns, extrasaction="ignore")
-        writer.writeheader()
-        for row in rows:
-            writer.writerow({key: cell(row.get(key, "")) for key in columns})
-    os.replace(temporary, path)
 
 
 # --- the figure ----------------------------------------------------------------------------
@@ -328,7 +311,8 @@ def legend_handles(rows: list[dict]) -> list:
 
 
 def plot(rows: list[dict], path: str, titles: dict[str, str]) -> None:
-    import figures  # noqa: F401  (sets the shared style)
+    """stability.png: one panel per map (the module's docstring)."""
+    from .. import figures  # noqa: F401  (sets the shared style)
     import matplotlib.pyplot as plt
     from matplotlib.colors import LogNorm
 
@@ -367,39 +351,10 @@ def plot(rows: list[dict], path: str, titles: dict[str, str]) -> None:
 
 # --- main ----------------------------------------------------------------------------------
 
-def main(argv: list[str] | None = None) -> int:
-    parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    parser.add_argument("spec", help="stability map specification (JSON)")
-    parser.add_argument("--out", required=True, help="map folder")
-    parser.add_argument("--binary", default=os.environ.get("MPS_LAB_BINARY", sweep.DEFAULT_BINARY),
-                        help="mps_lab binary (default: $MPS_LAB_BINARY, else build/mps_lab)")
-    parser.add_argument("--parallel", type=int, default=os.cpu_count() or 1, help="cases at a time")
-    parser.add_argument("--collect", action="store_true", help="only collect finished cases and plot")
-    parser.add_argument("--no-plots", action="store_true")
-    args = parser.parse_args(argv)
-    try:
-        spec = load_spec(args.spec)
-    except sweep.SpecError as error:
-        print(f"stability_map.py: {error}", file=sys.stderr)
-        return 2
-    cases = cases_of(spec)
-    os.makedirs(os.path.join(args.out, "cases"), exist_ok=True)
-    parallel = max(1, args.parallel)
-    threads = max(1, (os.cpu_count() or 1) // parallel)
-    if not args.collect:
-        if not os.access(args.binary, os.X_OK):
-            print(f"stability_map.py: {args.binary}: no mps_lab binary (build it first: tools/build.sh)",
-                  file=sys.stderr)
-            return 2
-        ordered = sorted(cases, key=estimated_cost, reverse=True)
-        sweep.run_cases(ordered, spec, args.out, os.path.abspath(args.binary), parallel, threads)
-    rows = [row_of(case, args.out) for case in cases]
-    limits = largest_stable(rows)
-    write_csv(rows, COLUMNS, os.path.join(args.out, "stability.csv"))
-    write_csv(limits, SUMMARY_COLUMNS, os.path.join(args.out, "stability_summary.csv"))
+def print_limits(rows: list[dict], limits: list[dict], out: str) -> None:
     counts = {status: sum(r["status"] == status for r in rows) for status in dict.fromkeys(r["status"] for r in rows)}
     print(f"stability_map: {len(rows)} cases ({', '.join(f'{n} {s}' for s, n in counts.items())}) -> "
-          f"{os.path.join(args.out, 'stability.csv')}")
+          f"{os.path.join(out, 'stability.csv')}")
     for s in limits:
         limit = "none" if math.isnan(s["largest_stable_courant"]) else f"{s['largest_stable_courant']:g}"
         beyond = (f", then {s['first_unstable_status']} ({s['first_unstable_event'] or '-'}) at "
@@ -407,11 +362,33 @@ def main(argv: list[str] | None = None) -> int:
         band = ("" if not math.isnan(s["largest_stable_courant"]) or math.isnan(s["stable_band_from"])
                 else f"; stable band {s['stable_band_from']:g} to {s['stable_band_to']:g}")
         print(f"stability_map: {s['map']} l0 = {s['l0']:g}: largest stable {s['rule']} {limit}{beyond}{band}")
-    if not args.no_plots and rows:
+
+
+def stability_map(spec_path: str, out: str, binary: str | None = None, parallel: int = 1,
+                  timeout: float = DEFAULT_TIMEOUT, collect_only: bool = False, plots: bool = True) -> int:
+    """The whole map (module docstring); 0, or 2 with one line on stderr for a bad spec or no binary."""
+    try:
+        spec = load_spec(spec_path)
+        found = None if collect_only else runner.find_binary(binary)
+        if found is not None:
+            check_methods(list(dict.fromkeys(entry["method"] for entry in spec["maps"].values())),
+                          methods.registered_methods(found), f"{spec_path}: maps.*.method")
+    except (SpecError, runner.BinaryNotFound, methods.MethodListError) as error:
+        print(f"stability_map.py: {error}", file=sys.stderr)
+        return 2
+    cases = cases_of(spec)
+    os.makedirs(os.path.join(out, "cases"), exist_ok=True)
+    parallel = max(1, parallel)
+    if not collect_only:
+        ordered = sorted(cases, key=estimated_cost, reverse=True)
+        sweep.run_cases(ordered, spec, out, found, parallel, runner.threads_per_case(parallel), timeout,
+                        label="stability_map")
+    rows = [row_of(case, out) for case in cases]
+    limits = largest_stable(rows)
+    write_csv(rows, COLUMNS, os.path.join(out, "stability.csv"))
+    write_csv(limits, SUMMARY_COLUMNS, os.path.join(out, "stability_summary.csv"))
+    print_limits(rows, limits, out)
+    if plots and rows:
         titles = {name: entry.get("title", "") for name, entry in spec["maps"].items()}
-        plot(rows, os.path.join(args.out, "stability.png"), titles)
+        plot(rows, os.path.join(out, "stability.png"), titles)
     return 0
-
-
-if __name__ == "__main__":
-    sys.exit(main())

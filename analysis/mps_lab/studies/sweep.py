@@ -1,4 +1,3 @@
-#!/usr/bin/env python3
 """The speed-accuracy study: a grid of `mps_lab run` cases, their cost and their error.
 
     /usr/bin/python3 analysis/sweep.py SPEC.json --out runs/sweep            # run (resumes), collect, plot
@@ -10,8 +9,10 @@ docs/speed-vs-accuracy.md; example: analysis/sweeps/dambreak.json). Every case i
 `mps_lab run` into <out>/cases/<case>/. A case whose run.json says "completed", "diverged",
 "solver_failed" or "failed" is finished and is not run again ("interrupted", "running" or no
 run.json: it runs again), so an interrupted sweep resumes where it stopped.
-Locally, cases run in parallel up to --parallel (default: the number of cores), each with
-OMP_NUM_THREADS = cores / parallel. The job list has one shell command per line, for GNU
+Locally, cases run through the case runner (mps_lab/runner.py: a list of arguments, --timeout
+per case, one retry after a crash) in parallel up to --parallel (default: the number of
+cores), each with OMP_NUM_THREADS = cores / parallel. The spec's methods must be registered
+in the binary (`mps_lab methods`). The job list has one shell command per line, for GNU
 parallel or a Slurm array (`sed -n "${SLURM_ARRAY_TASK_ID}p" jobs.txt | bash`).
 
 Collected into <out>/sweep.csv, one row per case:
@@ -28,36 +29,22 @@ method and time-step rule).
 """
 from __future__ import annotations
 
-import argparse
-import concurrent.futures
-import csv
 import json
 import math
 import os
-import shlex
-import subprocess
 import sys
 
-sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-import mps_lab_data as data  # noqa: E402
+import numpy as np
 
-ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
-DEFAULT_BINARY = os.path.join(ROOT, "build", "mps_lab")
-# Statuses of run.json that end a case for good (docs/scene-format.md, `stability`): a
-# diverged or solver-failed run is an outcome to record, not an interruption to resume.
-FINISHED = ("completed", "diverged", "solver_failed", "failed")
+from .. import data, methods, runner
+from .common import FINISHED, SpecError, case_folder, check_methods, load_json, source_path, status_of, write_csv
 
-
-class SpecError(Exception):
-    pass
+DEFAULT_TIMEOUT = 6 * 3600.0  # s per case: far above any case of analysis/sweeps/*.json; it stops a hung case
 
 
 def load_spec(path: str) -> dict:
-    try:
-        with open(path) as handle:
-            spec = json.load(handle)
-    except (OSError, json.JSONDecodeError) as error:
-        raise SpecError(f"{path}: {error}") from error
+    """The sweep specification, checked; raises SpecError with one line."""
+    spec = load_json(path)
     known = {"description", "scene", "end_time", "spacings", "methods", "reference_speed"}
     for key in spec:
         if key not in known:
@@ -105,39 +92,29 @@ def cases_of(spec: dict) -> list[dict]:
     return cases
 
 
-def command_of(case: dict, spec: dict, out: str, binary: str, threads: int) -> str:
-    arguments = [binary, "run", f"--method={case['method']}", os.path.join(ROOT, spec["scene"]) if not
-                 os.path.isabs(spec["scene"]) else spec["scene"], "--out", os.path.join(out, "cases", case["name"]),
-                 "--quiet"]
+def arguments_of(case: dict, spec: dict, out: str) -> list[str]:
+    """The `mps_lab` arguments of one case (after the binary)."""
+    arguments = ["run", f"--method={case['method']}", source_path(spec["scene"]), "--out",
+                 case_folder(out, case["name"]), "--quiet"]
     if "end_time" in spec:
         arguments += ["--end-time", repr(float(spec["end_time"]))]
     for key, value in case["overrides"].items():
         arguments += ["--set", f"{key}={json.dumps(value)}"]
-    return f"OMP_NUM_THREADS={threads} " + " ".join(shlex.quote(a) for a in arguments)
+    return arguments
 
 
-def status_of(out: str, case: dict) -> str:
-    path = os.path.join(out, "cases", case["name"], "run.json")
-    try:
-        with open(path) as handle:
-            return json.load(handle).get("status", "unknown")
-    except (OSError, json.JSONDecodeError):
-        return "missing"
-
-
-def run_cases(cases: list[dict], spec: dict, out: str, binary: str, parallel: int, threads: int) -> None:
+def run_cases(cases: list[dict], spec: dict, out: str, binary: str, parallel: int, threads: int,
+              timeout: float = DEFAULT_TIMEOUT, label: str = "sweep") -> None:
+    """Run every case not finished yet (in the order given), `parallel` at a time."""
     pending = [case for case in cases if status_of(out, case) not in FINISHED]
-    print(f"sweep: {len(cases)} cases, {len(cases) - len(pending)} finished, running {len(pending)} "
+    print(f"{label}: {len(cases)} cases, {len(cases) - len(pending)} finished, running {len(pending)} "
           f"({parallel} at a time, {threads} thread(s) each)", flush=True)
-
-    def run(case: dict) -> tuple[dict, int]:
-        result = subprocess.run(command_of(case, spec, out, binary, threads), shell=True, capture_output=True,
-                                text=True)
-        return case, result.returncode
-
-    with concurrent.futures.ThreadPoolExecutor(max_workers=parallel) as pool:
-        for case, code in pool.map(run, pending):
-            print(f"sweep: {case['name']}: {status_of(out, case)} (exit {code})", flush=True)
+    requests = [runner.CaseRequest(case["name"], arguments_of(case, spec, out), case_folder(out, case["name"]),
+                                   {"case": case}) for case in pending]
+    for request, result in runner.run_cases(binary, requests, parallel=parallel, timeout=timeout, threads=threads):
+        detail = "" if result.ok else f": {result.last_error_line()}" if result.last_error_line() else ""
+        print(f"{label}: {request.name}: {status_of(out, request.extra['case'])} ({result.describe()}){detail}",
+              flush=True)
 
 
 def self_convergence(run: data.Run, reference: data.Run) -> float:
@@ -148,7 +125,7 @@ def self_convergence(run: data.Run, reference: data.Run) -> float:
     grid = [0.05 * k for k in range(int(end / 0.05) + 1)]
     if len(grid) < 2:
         return math.nan
-    differences = [data.np.interp(T, t, z) - data.np.interp(T, t_ref, z_ref) for T in grid]
+    differences = [np.interp(T, t, z) - np.interp(T, t_ref, z_ref) for T in grid]
     return float(math.sqrt(sum(d * d for d in differences) / len(differences)))
 
 
@@ -182,7 +159,7 @@ def collect(cases: list[dict], out: str) -> list[dict]:
     runs = {}
     rows = []
     for case in cases:
-        folder = os.path.join(out, "cases", case["name"])
+        folder = case_folder(out, case["name"])
         row = {key: case[key] for key in ("name", "method", "l0", "time_step_rule", "tolerance")}
         row["status"] = status_of(out, case)
         if row["status"] in FINISHED:
@@ -214,16 +191,6 @@ COLUMNS = ["name", "method", "l0", "time_step_rule", "tolerance", "status", "wal
            "front_rms_shifted", "front_best_shift", "self_convergence", "reference"]
 
 
-def write_csv(rows: list[dict], path: str) -> None:
-    temporary = path + ".tmp"
-    with open(temporary, "w", newline="") as handle:
-        writer = csv.DictWriter(handle, fieldnames=COLUMNS, extrasaction="ignore")
-        writer.writeheader()
-        for row in rows:
-            writer.writerow({key: row.get(key, "") for key in COLUMNS})
-    os.replace(temporary, path)
-
-
 def pareto_front(points: list[tuple[float, float]]) -> list[int]:
     """Indices of the points not dominated in (cost, error): nothing is both cheaper and better."""
     front = []
@@ -245,34 +212,41 @@ def fitted_order(l0: list[float], error: list[float]) -> float:
     return sum((x - mean_x) * (y - mean_y) for x, y in pairs) / denominator if denominator > 0 else math.nan
 
 
-def plot(rows: list[dict], out: str) -> dict:
-    import figures  # noqa: F401  (sets the shared style)
+RULE_MARKERS = ["o", "s", "^", "D"]  # by time-step rule within a method
+RULE_LINES = ["-", "--", ":", "-."]
+
+
+def plotted_cases(rows: list[dict]) -> tuple[list[dict], list[str], dict, dict]:
+    """(completed rows with a front error, their methods sorted, each method's time-step rules,
+    each method's tightest tolerance = its first listed)."""
+    done = [r for r in rows if r["status"] == "completed" and math.isfinite(r.get("front_rms", math.nan))]
+    shown = sorted({r["method"] for r in done})
+    rules = {m: sorted({r["time_step_rule"] for r in done if r["method"] == m}) for m in shown}
+    tightest = {m: next(r["tolerance"] for r in done if r["method"] == m) for m in shown}
+    return done, shown, rules, tightest
+
+
+def plot_pareto(rows: list[dict], path: str, styles: methods.MethodStyles) -> None:
+    """Front error against wall time: with the best time shift (the experiment's t = 0 is
+    uncertain and every converged method leads it by a similar time), and unshifted beside it."""
     import matplotlib.pyplot as plt
 
-    done = [r for r in rows if r["status"] == "completed" and math.isfinite(r.get("front_rms", math.nan))]
-    methods = sorted({r["method"] for r in done})
-    rules = {m: sorted({r["time_step_rule"] for r in done if r["method"] == m}) for m in methods}
-    tightest = {m: next(r["tolerance"] for r in done if r["method"] == m) for m in methods}
-    markers, styles = ["o", "s", "^", "D"], ["-", "--", ":", "-."]
-    orders = {}
-
-    # Pareto: the error with the best time shift (the experiment's t = 0 is uncertain and
-    # every converged method leads it by a similar time), and the unshifted error beside it.
+    done, shown, rules, tightest = plotted_cases(rows)
     fig, axes = plt.subplots(1, 2, figsize=(12.0, 4.8))
     for ax, key, title in [(axes[0], "front_rms_shifted", "front RMS in Z, best time shift in +-0.3"),
                            (axes[1], "front_rms", "front RMS in Z, unshifted")]:
         points = [(r["wall_seconds"], r[key]) for r in done]
-        for k, method in enumerate(methods):
-            colour = figures.METHOD_COLOURS.get(method, f"C{k + 3}")
+        for method in shown:
+            colour = styles.colour(method)
             for m, rule in enumerate(rules[method]):
                 for filled in (True, False):
                     mine = [r for r in done if r["method"] == method and r["time_step_rule"] == rule
                             and (r["tolerance"] == tightest[method]) == filled]
-                    if not mine:
-                        continue
-                    ax.scatter([r["wall_seconds"] for r in mine], [r[key] for r in mine], s=30,
-                               marker=markers[m % len(markers)], color=colour if filled else "none",
-                               edgecolors=colour, label=f"{method} / {rule}" + ("" if filled else " / looser tol."))
+                    if mine:
+                        ax.scatter([r["wall_seconds"] for r in mine], [r[key] for r in mine], s=30,
+                                   marker=RULE_MARKERS[m % len(RULE_MARKERS)], color=colour if filled else "none",
+                                   edgecolors=colour,
+                                   label=f"{method} / {rule}" + ("" if filled else " / looser tol."))
         front = pareto_front(points)
         ax.step([points[i][0] for i in front], [points[i][1] for i in front], "k--", where="post", lw=1.0,
                 label="Pareto front (all methods)")
@@ -287,12 +261,19 @@ def plot(rows: list[dict], out: str) -> dict:
     fig.legend(handles, labels, loc="lower center", ncol=4, fontsize=8, frameon=False)
     fig.suptitle("Accuracy for cost (markers: time-step rule; open: looser solver tolerance)")
     fig.tight_layout(rect=(0, 0.17, 1, 1))
-    fig.savefig(os.path.join(out, "pareto.png"))
+    fig.savefig(path)
     plt.close(fig)
 
+
+def plot_convergence(rows: list[dict], path: str, styles: methods.MethodStyles) -> dict:
+    """Errors against l0 at the tightest tolerance; returns the fitted self-convergence order
+    of each method / time-step rule."""
+    import matplotlib.pyplot as plt
+
+    done, shown, rules, tightest = plotted_cases(rows)
+    orders = {}
     fig, (left, right) = plt.subplots(1, 2, figsize=(11.0, 4.6))
-    for k, method in enumerate(methods):
-        colour = figures.METHOD_COLOURS.get(method, f"C{k + 3}")
+    for method in shown:
         for m, rule in enumerate(rules[method]):
             mine = sorted([r for r in done if r["method"] == method and r["time_step_rule"] == rule
                            and r["tolerance"] == tightest[method]], key=lambda r: r["l0"])
@@ -300,7 +281,8 @@ def plot(rows: list[dict], out: str) -> dict:
             self_error = [r["self_convergence"] for r in mine]
             order = fitted_order(l0, self_error)
             orders[f"{method}/{rule}"] = order
-            style = dict(color=colour, linestyle=styles[m % len(styles)], marker=markers[m % len(markers)])
+            style = dict(color=styles.colour(method), linestyle=RULE_LINES[m % len(RULE_LINES)],
+                         marker=RULE_MARKERS[m % len(RULE_MARKERS)])
             label = f"{method} / {rule}: order {order:.2f}" if math.isfinite(order) else f"{method} / {rule}"
             right.loglog(l0, self_error, label=label, **style)
             left.loglog(l0, [r["front_rms_shifted"] for r in mine], label=f"{method} / {rule}", **style)
@@ -313,51 +295,55 @@ def plot(rows: list[dict], out: str) -> dict:
     for axis in (left, right):
         axis.legend(fontsize=8)
     fig.tight_layout()
-    fig.savefig(os.path.join(out, "convergence.png"))
+    fig.savefig(path)
     plt.close(fig)
     return orders
 
 
-def main(argv: list[str] | None = None) -> int:
-    parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    parser.add_argument("spec", help="sweep specification (JSON)")
-    parser.add_argument("--out", required=True, help="sweep folder")
-    parser.add_argument("--binary", default=DEFAULT_BINARY, help="mps_lab binary (default: build/mps_lab)")
-    parser.add_argument("--parallel", type=int, default=os.cpu_count() or 1, help="cases at a time")
-    parser.add_argument("--jobs-file", help="write the job list (one command per line) and stop")
-    parser.add_argument("--collect", action="store_true", help="only collect finished cases and plot")
-    parser.add_argument("--no-plots", action="store_true")
-    args = parser.parse_args(argv)
+def plot(rows: list[dict], out: str, styles: methods.MethodStyles) -> dict:
+    """pareto.png and convergence.png (colour: the method; marker: the time-step rule);
+    returns the fitted self-convergence orders."""
+    from .. import figures  # noqa: F401  (sets the shared style)
+
+    plot_pareto(rows, os.path.join(out, "pareto.png"), styles)
+    return plot_convergence(rows, os.path.join(out, "convergence.png"), styles)
+
+
+def write_jobs(cases: list[dict], spec: dict, out: str, binary: str, threads: int, path: str) -> None:
+    """One shell line per case (GNU parallel, a Slurm array); nothing is run here."""
+    with open(path, "w") as handle:
+        for case in cases:
+            handle.write(runner.command_line(binary, arguments_of(case, spec, out), threads) + "\n")
+    print(f"sweep: {len(cases)} jobs written to {path}")
+
+
+def sweep(spec_path: str, out: str, binary: str | None = None, parallel: int = 1, timeout: float = DEFAULT_TIMEOUT,
+          jobs_file: str | None = None, collect_only: bool = False, plots: bool = True) -> int:
+    """The whole study (module docstring); 0, or 2 with one line on stderr for a bad spec or
+    no binary."""
     try:
-        spec = load_spec(args.spec)
-    except SpecError as error:
+        spec = load_spec(spec_path)
+        found = None if collect_only else runner.find_binary(binary)
+        if found is not None:
+            check_methods(list(spec["methods"]), methods.registered_methods(found), f"{spec_path}: methods")
+    except (SpecError, runner.BinaryNotFound, methods.MethodListError) as error:
         print(f"sweep.py: {error}", file=sys.stderr)
         return 2
     cases = cases_of(spec)
-    os.makedirs(os.path.join(args.out, "cases"), exist_ok=True)
-    parallel = max(1, args.parallel)
-    threads = max(1, (os.cpu_count() or 1) // parallel)
-    if args.jobs_file:
-        with open(args.jobs_file, "w") as handle:
-            for case in cases:
-                handle.write(command_of(case, spec, os.path.abspath(args.out), os.path.abspath(args.binary), threads) + "\n")
-        print(f"sweep: {len(cases)} jobs written to {args.jobs_file}")
+    os.makedirs(os.path.join(out, "cases"), exist_ok=True)
+    parallel = max(1, parallel)
+    threads = runner.threads_per_case(parallel)
+    if jobs_file:
+        write_jobs(cases, spec, os.path.abspath(out), found, threads, jobs_file)
         return 0
-    if not args.collect:
-        if not os.access(args.binary, os.X_OK):
-            print(f"sweep.py: {args.binary}: no mps_lab binary (build it first: tools/build.sh)", file=sys.stderr)
-            return 2
-        run_cases(cases, spec, args.out, args.binary, parallel, threads)
-    rows = collect(cases, args.out)
-    write_csv(rows, os.path.join(args.out, "sweep.csv"))
+    if not collect_only:
+        run_cases(cases, spec, out, found, parallel, threads, timeout)
+    rows = collect(cases, out)
+    write_csv(rows, COLUMNS, os.path.join(out, "sweep.csv"), nan_as_empty=False)
     finished = sum(r["status"] in FINISHED for r in rows)
-    print(f"sweep: {finished}/{len(rows)} cases finished -> {os.path.join(args.out, 'sweep.csv')}")
-    if not args.no_plots and any(r["status"] == "completed" for r in rows):
-        orders = plot(rows, args.out)
+    print(f"sweep: {finished}/{len(rows)} cases finished -> {os.path.join(out, 'sweep.csv')}")
+    if plots and any(r["status"] == "completed" for r in rows):
+        orders = plot(rows, out, methods.styles_for([r["method"] for r in rows], binary))
         for key, order in orders.items():
             print(f"sweep: fitted self-convergence order {key}: {order:.2f}")
     return 0
-
-
-if __name__ == "__main__":
-    sys.exit(main())

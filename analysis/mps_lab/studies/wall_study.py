@@ -1,14 +1,14 @@
-#!/usr/bin/env python3
 """The wall study: every method with every boundary model on three scenes, and what the wall does.
 
     /usr/bin/python3 analysis/wall_study.py --out runs/wall_study --parallel 2       # run (resumes), collect, plot
     /usr/bin/python3 analysis/wall_study.py --methods mps --models default mirror_particles --scenes hydrostatic
-    /usr/bin/python3 analysis/wall_study.py --out runs/wall_study --collect          # only collect and plot
+    /usr/bin/python3 analysis/wall_study.py --out runs/wall_study --collect          # only collect and plot (asks the binary for the methods)
     /usr/bin/python3 analysis/wall_study.py --out /tmp/ws --quick                   # short end times (tests)
 
-A boundary model is the wall treatment that represents the walls to the fluid (core/walls/):
-each method has a default one (mps: spec_wall_particles, isph: adami_wall_particles, dfsph:
-akinci_boundary) and supports dummy_layers, mirror_particles and distance_function. A case is
+A boundary model is the wall treatment that represents the walls to the fluid (core/walls/).
+The methods, each method's default boundary model and the others it supports are read from
+the binary (`mps_lab methods --parameters`: "wall treatment NAME (boundary model, on by
+default)"), so a new method or boundary model joins the study without an edit here. A case is
 one `mps_lab run --method=M SCENE` into <out>/cases/<scene>__<method>__<model>/; a model other
 than the default is named with `--set methods.M.wall_treatments.MODEL={}`, which replaces the
 default boundary model and keeps the scene's other treatments (the MPS clamps, ...). Every
@@ -17,12 +17,14 @@ Scenes: dambreak (scenes/dambreak.json, T = 2 s), hydrostatic (scenes/hydrostati
 T = 1 s with a frame every 0.05 s), dambreak_obstacle (scenes/dambreak_obstacle.json, T = 2 s);
 --quick ends them at 0.4, 0.6 and 0.4 s.
 
-Cases run --parallel at a time with OMP_NUM_THREADS = cores / parallel. A case whose run.json
-says completed, diverged, solver_failed or failed is finished and is not run again; any other
-case (no run.json, "interrupted", an error before the run started) runs again, so an
-interrupted study resumes. An mps_lab that exits with an error and no run.json (a combination
-not supported, a bad key) is tried once more, then recorded as status "error" with the last
-line of its stderr (kept in the case folder as stderr.txt); a case over --timeout is "timeout".
+Cases run through the case runner (mps_lab/runner.py) --parallel at a time with
+OMP_NUM_THREADS = cores / parallel. A case whose run.json says completed, diverged,
+solver_failed or failed is finished and is not run again; any other case (no run.json,
+"interrupted", an error before the run started) runs again, so an interrupted study resumes.
+A case that crashed (killed by a signal) is run once more by the runner. An mps_lab that exits
+with an error and no run.json (a combination not supported, a bad key) is recorded as status
+"error" with the last line of its stderr (kept in the case folder as stderr.txt); a case over
+--timeout is "timeout".
 
 <out>/wall_study.csv, one row per case:
   scene, method, boundary_model, default   the combination (default: the method's own model)
@@ -53,34 +55,25 @@ of its fluid, its value is in the CSV but not drawn).
 """
 from __future__ import annotations
 
-import argparse
-import concurrent.futures
-import csv
 import json
 import math
 import os
 import re
-import subprocess
 import sys
-import time
 
 import numpy as np
 
-sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-import mps_lab_data as data  # noqa: E402
-import sweep  # noqa: E402
+from .. import SOURCE_ROOT, data, methods, runner
+from .common import FINISHED, case_folder, run_summary, write_csv
 
-ROOT = sweep.ROOT
-FINISHED = sweep.FINISHED
-DEFAULT_MODELS = {"mps": "spec_wall_particles", "isph": "adami_wall_particles", "dfsph": "akinci_boundary"}
-NEW_MODELS = ["dummy_layers", "mirror_particles", "distance_function"]
-ALL_MODELS = sorted(set(DEFAULT_MODELS.values())) + NEW_MODELS
+DEFAULT_TIMEOUT = 3600.0  # s per case
 SCENES = {  # name: scene file, end time, quick end time, extra overrides
     "dambreak": ("scenes/dambreak.json", 2.0, 0.4, {}),
     "hydrostatic": ("scenes/hydrostatic.json", 1.0, 0.6, {"output.frame_interval": 0.05}),
     "dambreak_obstacle": ("scenes/dambreak_obstacle.json", 2.0, 0.4, {}),
 }
 COMMON = {"stability.on_divergence": "continue"}
+DEFAULT_SLOT = "default"  # the method's own boundary model, whichever it is
 
 # The hydrostatic tank (scenes/hydrostatic.json): fluid rows at y = 0.025 ... 0.275 m.
 HYDRO_WINDOW = (0.5, 1.0)  # s, the water has settled
@@ -103,15 +96,18 @@ COLUMNS = ["scene", "method", "boundary_model", "default", "status", "model_in_r
 
 # --- the cases -----------------------------------------------------------------------------
 
-def cases_of(methods: list[str], models: list[str], scenes: list[str], quick: bool = False) -> list[dict]:
-    """Every scene x method x boundary model; "default" in models stands for each method's own."""
+def cases_of(catalogue: dict[str, methods.MethodInfo], chosen: list[str], models: list[str], scenes: list[str],
+             quick: bool = False) -> list[dict]:
+    """Every scene x method x boundary model the method supports; "default" in models stands
+    for each method's own. catalogue: methods.method_catalogue of the binary."""
     cases = []
     for scene in scenes:
         path, end_time, quick_end, extra = SCENES[scene]
-        for method in methods:
-            own = DEFAULT_MODELS[method]
-            for model in [own] + NEW_MODELS:
-                if model not in models and not (model == own and "default" in models):
+        for method in chosen:
+            info = catalogue[method]
+            own = info.default_boundary_model
+            for model in [own] + [m for m in info.boundary_models if m != own]:
+                if model not in models and not (model == own and DEFAULT_SLOT in models):
                     continue
                 overrides = {**COMMON, **extra}
                 if model != own:
@@ -122,20 +118,17 @@ def cases_of(methods: list[str], models: list[str], scenes: list[str], quick: bo
     return cases
 
 
-def arguments_of(case: dict, out: str, binary: str) -> list[str]:
-    arguments = [binary, "run", f"--method={case['method']}", os.path.join(ROOT, case["scene_file"]), "--out",
-                 os.path.join(out, "cases", case["name"]), "--quiet", "--end-time", repr(float(case["end_time"]))]
+def arguments_of(case: dict, out: str) -> list[str]:
+    """The `mps_lab` arguments of one case (after the binary)."""
+    arguments = ["run", f"--method={case['method']}", os.path.join(SOURCE_ROOT, case["scene_file"]), "--out",
+                 case_folder(out, case["name"]), "--quiet", "--end-time", repr(float(case["end_time"]))]
     for key, value in case["overrides"].items():
         arguments += ["--set", f"{key}={json.dumps(value)}"]
     return arguments
 
 
 def summary_of(out: str, case: dict) -> dict | None:
-    try:
-        with open(os.path.join(out, "cases", case["name"], "run.json")) as handle:
-            return json.load(handle)
-    except (OSError, json.JSONDecodeError):
-        return None
+    return run_summary(case_folder(out, case["name"]))
 
 
 def status_of(out: str, case: dict) -> str:
@@ -143,46 +136,33 @@ def status_of(out: str, case: dict) -> str:
     return summary.get("status", "unknown") if summary is not None else "missing"
 
 
-def run_case(case: dict, out: str, binary: str, threads: int, timeout: float) -> tuple[str, int]:
-    """Run one case (once more after an error without run.json: the binary may be being
-    rebuilt); on failure leave stderr.txt (first line: the outcome) in the case folder."""
-    folder = os.path.join(out, "cases", case["name"])
+def record_outcome(case: dict, out: str, result: runner.CaseResult) -> str:
+    """The case's status after a run; for a case without a finished run.json, "timeout" or
+    "error", with stderr.txt (first line: the outcome) left in its folder."""
+    folder = case_folder(out, case["name"])
+    stale = os.path.join(folder, "stderr.txt")
+    status = status_of(out, case)
+    if status in FINISHED:
+        if os.path.exists(stale):
+            os.remove(stale)
+        return status
+    outcome = "timeout" if result.timed_out else "error"
+    detail = result.start_error or result.stderr
     os.makedirs(folder, exist_ok=True)
-    environment = {**os.environ, "OMP_NUM_THREADS": str(threads)}
-    for attempt in range(2):
-        try:
-            result = subprocess.run(arguments_of(case, out, binary), env=environment, capture_output=True,
-                                    text=True, timeout=timeout)
-        except subprocess.TimeoutExpired:
-            outcome, code, stderr = "timeout", -1, f"no result after {timeout:g} s\n"
-        except OSError as error:
-            outcome, code, stderr = "error", -1, f"{error}\n"
-        else:
-            code, stderr = result.returncode, result.stderr
-            outcome = "" if status_of(out, case) in FINISHED else "error"
-        if not outcome:
-            stale = os.path.join(folder, "stderr.txt")
-            if os.path.exists(stale):
-                os.remove(stale)
-            return status_of(out, case), code
-        if outcome == "timeout":
-            break
-        if attempt == 0:
-            time.sleep(3.0)
-    with open(os.path.join(folder, "stderr.txt"), "w") as handle:
-        handle.write(f"{outcome} (exit {code})\n{stderr}")
-    return outcome, code
+    with open(stale, "w") as handle:
+        handle.write(f"{outcome} ({result.describe()})\n{detail}")
+    return outcome
 
 
 def run_cases(cases: list[dict], out: str, binary: str, parallel: int, threads: int, timeout: float) -> None:
     pending = [case for case in cases if status_of(out, case) not in FINISHED]
     print(f"wall_study: {len(cases)} cases, {len(cases) - len(pending)} finished, running {len(pending)} "
           f"({parallel} at a time, {threads} thread(s) each)", flush=True)
-    with concurrent.futures.ThreadPoolExecutor(max_workers=parallel) as pool:
-        futures = {pool.submit(run_case, case, out, binary, threads, timeout): case for case in pending}
-        for future in concurrent.futures.as_completed(futures):
-            status, code = future.result()
-            print(f"wall_study: {futures[future]['name']}: {status} (exit {code})", flush=True)
+    requests = [runner.CaseRequest(case["name"], arguments_of(case, out), case_folder(out, case["name"]),
+                                   {"case": case}) for case in pending]
+    for request, result in runner.run_cases(binary, requests, parallel=parallel, timeout=timeout, threads=threads):
+        status = record_outcome(request.extra["case"], out, result)
+        print(f"wall_study: {request.name}: {status} ({result.describe()})", flush=True)
 
 
 # --- the metrics ---------------------------------------------------------------------------
@@ -305,13 +285,14 @@ def dambreak_metrics(run: data.Run, scene: str, status: str) -> dict:
     return row
 
 
-def model_in_run(summary: dict) -> str:
-    """The boundary model(s) the run says it used: its enabled wall treatments that are boundary models."""
+def model_in_run(summary: dict, boundary_models: list[str]) -> str:
+    """The boundary model(s) the run says it used: its enabled wall treatments that are
+    boundary models (boundary_models: every boundary model of the binary, sorted)."""
     treatments = summary.get("wall_treatments", {})
-    used = [name for name in ALL_MODELS if treatments.get(name, {}).get("enabled", False)]
+    used = [name for name in boundary_models if treatments.get(name, {}).get("enabled", False)]
     if not used:  # a run.json without the enabled flags: the method's own report
         method_summary = summary.get("method_summary", {})
-        used = [name for name in method_summary.get("wall_treatments", []) if name in ALL_MODELS]
+        used = [name for name in method_summary.get("wall_treatments", []) if name in boundary_models]
     return "+".join(used)
 
 
@@ -323,9 +304,10 @@ def model_reported(summary: dict) -> str:
     return method_summary.get("boundary_model") or (wall.get("boundary_model", "") if isinstance(wall, dict) else "")
 
 
-def row_of(case: dict, out: str) -> dict:
+def row_of(case: dict, out: str, boundary_models: list[str]) -> dict:
+    """One row of wall_study.csv (the module's docstring)."""
     row = {key: case[key] for key in ("scene", "method", "boundary_model", "default", "name")}
-    folder = os.path.join(out, "cases", case["name"])
+    folder = case_folder(out, case["name"])
     summary = summary_of(out, case)
     if summary is None or summary.get("status") not in FINISHED:
         row["status"] = summary.get("status", "unknown") if summary is not None else "missing"
@@ -339,7 +321,7 @@ def row_of(case: dict, out: str) -> dict:
         return row
     row["status"] = summary["status"]
     row["message"] = summary.get("message", "")
-    row["model_in_run"] = model_in_run(summary)
+    row["model_in_run"] = model_in_run(summary, boundary_models)
     row["model_reported"] = model_reported(summary)
     row["revision"] = summary.get("git_revision", "")
     particles = summary.get("particles", {})
@@ -363,20 +345,6 @@ def row_of(case: dict, out: str) -> dict:
     except (OSError, ValueError, KeyError, IndexError) as error:
         row["message"] = (row["message"] + "; " if row["message"] else "") + f"analysis: {error}"
     return row
-
-
-def write_csv(rows: list[dict], path: str) -> None:
-    """Atomically, NaN as an empty cell."""
-    def cell(value):
-        return "" if isinstance(value, float) and math.isnan(value) else value
-
-    temporary = path + ".tmp"
-    with open(temporary, "w", newline="") as handle:
-        writer = csv.DictWriter(handle, fieldnames=COLUMNS, extrasaction="ignore")
-        writer.writeheader()
-        for row in rows:
-            writer.writerow({key: cell(row.get(key, "")) for key in COLUMNS})
-    os.replace(temporary, path)
 
 
 # --- the report ----------------------------------------------------------------------------
@@ -446,61 +414,83 @@ def lost_fluid(row: dict) -> bool:
         return False
 
 
+def bar_layout(rows: list[dict]) -> tuple[list[str], dict[str, str], list[str], dict[str, str]]:
+    """(methods, each method's default model, bar slots, slot colours) from the rows: the
+    methods in the order of the rows (the registered order), "default" first then every other
+    model, sorted."""
+    shown = list(dict.fromkeys(r["method"] for r in rows))
+    defaults = {r["method"]: r["boundary_model"] for r in rows if r["default"] in (True, "True")}
+    others = sorted({r["boundary_model"] for r in rows if r["default"] not in (True, "True")})
+    slots = [DEFAULT_SLOT] + others
+    colours = {DEFAULT_SLOT: "0.45", **{slot: f"C{k % 10}" for k, slot in enumerate(others)}}
+    return shown, defaults, slots, colours
+
+
+def bar_value(row: dict | None, key: str) -> tuple[str, float]:
+    """("bar", value), or ("none", nan) with no value, or ("lost", value) when the run lost most
+    of its fluid (its value describes no flow)."""
+    if row is None:
+        return "absent", math.nan
+    value = row.get(key, math.nan)
+    value = float(value) if value not in ("", None) else math.nan
+    if not math.isfinite(value):
+        return "none", value
+    return ("lost" if lost_fluid(row) else "bar"), value
+
+
+def draw_panel(ax, rows: list[dict], scenes: list[str], key: str, layout) -> None:
+    """Bars of one quantity: a group per method, a bar per slot (a pair when two scenes)."""
+    shown, defaults, slots, colours = layout
+    width = 0.8 / len(slots)
+    for k, method in enumerate(shown):
+        for s, slot in enumerate(slots):
+            model = defaults.get(method, "") if slot == DEFAULT_SLOT else slot
+            for j, name in enumerate(scenes):
+                x = k + (s - (len(slots) - 1) / 2) * width + (j - (len(scenes) - 1) / 2) * width / len(scenes)
+                row = next((r for r in rows if r["scene"] == name and r["method"] == method
+                            and r["boundary_model"] == model), None)
+                kind, value = bar_value(row, key)
+                if kind in ("none", "lost"):
+                    ax.plot([x], [0], marker="x" if kind == "none" else "v", color="tab:red", markersize=7, zorder=3,
+                            clip_on=False)
+                elif kind == "bar":
+                    penetrated = bool(row.get("penetrations")) and int(row["penetrations"]) > 0
+                    ax.bar(x, value, width / len(scenes) * 0.95, color=colours[slot], alpha=1.0 if j == 0 else 0.55,
+                           hatch="///" if penetrated else None, edgecolor="k", linewidth=0.5)
+    ax.set_xticks(range(len(shown)))
+    ax.set_xticklabels(shown)
+    if key in ("front_rms", "sensor_noise_kpa"):
+        values = [float(r[key]) for r in rows if r["scene"] in scenes and r.get(key, "") not in ("", None)
+                  and math.isfinite(float(r[key])) and float(r[key]) > 0 and not lost_fluid(r)]
+        if values and max(values) / min(values) > 30:
+            ax.set_yscale("log")
+
+
 def plot(rows: list[dict], path: str) -> None:
-    import figures  # noqa: F401  (sets the shared style)
+    """wall_study.png: front RMS, wall-sensor noise, hydrostatic wall pressure per method and model."""
+    from .. import figures  # noqa: F401  (sets the shared style)
     import matplotlib.pyplot as plt
     from matplotlib.patches import Patch
 
-    methods = [m for m in DEFAULT_MODELS if any(r["method"] == m for r in rows)]
-    slots = ["default"] + NEW_MODELS  # bar position within a method group
-    colours = {"default": "0.45", "dummy_layers": "tab:blue", "mirror_particles": "tab:orange",
-               "distance_function": "tab:green"}
+    layout = bar_layout(rows)
+    _, defaults, slots, colours = layout
     panels = [("dambreak", "front_rms", "front RMS in Z against Martin & Moyce", "Dam break: surge front error", None),
               ("dambreak", "sensor_noise_kpa", "noise [kPa] (RMS of p − 0.05 s moving average)",
                "Right-wall sensor noise, t in [0.3, 2] s", "dambreak_obstacle"),
               ("hydrostatic", "wall_pressure_ratio", "bottom-row p / ρg(y_top − y), t in [0.5, 1] s",
                "Water at rest: wall pressure", None)]
     fig, axes = plt.subplots(1, 3, figsize=(16.0, 5.0))
-    width = 0.8 / len(slots)
     for ax, (scene, key, ylabel, title, second) in zip(axes, panels):
-        scenes = [scene] + ([second] if second else [])
-        for k, method in enumerate(methods):
-            for s, slot in enumerate(slots):
-                model = DEFAULT_MODELS[method] if slot == "default" else slot
-                for j, name in enumerate(scenes):
-                    x = k + (s - (len(slots) - 1) / 2) * width + (j - (len(scenes) - 1) / 2) * width / len(scenes)
-                    w = width / len(scenes)
-                    row = next((r for r in rows if r["scene"] == name and r["method"] == method
-                                and r["boundary_model"] == model), None)
-                    if row is None:
-                        continue
-                    value = row.get(key, math.nan)
-                    value = float(value) if value not in ("", None) else math.nan
-                    if not math.isfinite(value):
-                        ax.plot([x], [0], marker="x", color="tab:red", markersize=7, zorder=3, clip_on=False)
-                        continue
-                    if lost_fluid(row):
-                        ax.plot([x], [0], marker="v", color="tab:red", markersize=7, zorder=3, clip_on=False)
-                        continue
-                    penetrated = bool(row.get("penetrations")) and int(row["penetrations"]) > 0
-                    ax.bar(x, value, w * 0.95, color=colours[slot], alpha=1.0 if j == 0 else 0.55,
-                           hatch="///" if penetrated else None, edgecolor="k", linewidth=0.5)
-        ax.set_xticks(range(len(methods)))
-        ax.set_xticklabels(methods)
+        draw_panel(ax, rows, [scene] + ([second] if second else []), key, layout)
         ax.set_ylabel(ylabel)
         ax.set_title(title)
         if key == "wall_pressure_ratio":
             ax.axhline(1.0, color="k", linestyle="--", linewidth=1.0)
-        if key in ("front_rms", "sensor_noise_kpa"):
-            values = [float(r[key]) for r in rows if r["scene"] in scenes and r.get(key, "") not in ("", None)
-                      and math.isfinite(float(r[key])) and float(r[key]) > 0 and not lost_fluid(r)]
-            if values and max(values) / min(values) > 30:
-                ax.set_yscale("log")
         if second:
             ax.set_xlabel("bar pairs: dam break (left), with the obstacle (right, pale)")
-    handles = [Patch(facecolor=colours[s], edgecolor="k",
-                     label="default (mps: spec_wall_particles, isph: adami_wall_particles, dfsph: akinci_boundary)"
-                     if s == "default" else s) for s in slots]
+    own = ", ".join(f"{method}: {model}" for method, model in defaults.items())
+    handles = [Patch(facecolor=colours[s], edgecolor="k", label=f"default ({own})" if s == DEFAULT_SLOT else s)
+               for s in slots]
     handles += [Patch(facecolor="white", edgecolor="k", hatch="///", label="the run penetrated a wall"),
                 plt.Line2D([], [], marker="x", color="tab:red", linestyle="none", label="no value (failed / not run)"),
                 plt.Line2D([], [], marker="v", color="tab:red", linestyle="none",
@@ -514,44 +504,51 @@ def plot(rows: list[dict], path: str) -> None:
 
 # --- main ----------------------------------------------------------------------------------
 
-def main(argv: list[str] | None = None) -> int:
-    parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    parser.add_argument("--out", default=os.path.join("runs", "wall_study"), help="study folder")
-    parser.add_argument("--binary", default=os.environ.get("MPS_LAB_BINARY", sweep.DEFAULT_BINARY),
-                        help="mps_lab binary (default: $MPS_LAB_BINARY, else build/mps_lab)")
-    parser.add_argument("--methods", nargs="+", default=list(DEFAULT_MODELS), choices=list(DEFAULT_MODELS))
-    parser.add_argument("--models", nargs="+", default=["default"] + NEW_MODELS, choices=["default"] + ALL_MODELS,
-                        help="boundary models; default = each method's own")
-    parser.add_argument("--scenes", nargs="+", default=list(SCENES), choices=list(SCENES))
-    parser.add_argument("--parallel", type=int, default=os.cpu_count() or 1, help="cases at a time")
-    parser.add_argument("--timeout", type=float, default=3600.0, help="seconds before a case is stopped")
-    parser.add_argument("--collect", action="store_true", help="only collect finished cases and plot")
-    parser.add_argument("--quick", action="store_true", help="short end times (for tests)")
-    parser.add_argument("--no-plots", action="store_true")
-    args = parser.parse_args(argv)
-    cases = cases_of(args.methods, args.models, args.scenes, args.quick)
+def choose(catalogue: dict[str, methods.MethodInfo], chosen: list[str] | None,
+           models: list[str] | None) -> tuple[list[str], list[str]]:
+    """The methods and models asked for, checked against the binary's; raises ValueError."""
+    registered = sorted(catalogue)
+    every_model = sorted({m for info in catalogue.values() for m in info.boundary_models})
+    chosen = chosen or registered
+    models = models or [DEFAULT_SLOT] + every_model
+    for method in chosen:
+        if method not in catalogue:
+            raise ValueError(f"--methods: {method}: not a registered method (expected one of: {', '.join(registered)})")
+    for model in models:
+        if model != DEFAULT_SLOT and model not in every_model:
+            raise ValueError(f"--models: {model}: not a boundary model (expected default or one of: "
+                             f"{', '.join(every_model)})")
+    return chosen, models
+
+
+def wall_study(out: str, binary: str | None = None, chosen: list[str] | None = None, models: list[str] | None = None,
+               scenes: list[str] | None = None, parallel: int = 1, timeout: float = DEFAULT_TIMEOUT,
+               collect_only: bool = False, quick: bool = False, plots: bool = True) -> int:
+    """The whole study (module docstring). The binary is needed also to collect: it names the
+    methods and their boundary models. 0, or 2 with one line on stderr."""
+    try:
+        found = runner.find_binary(binary)
+        catalogue = methods.method_catalogue(found)
+        chosen, models = choose(catalogue, chosen, models)
+    except (runner.BinaryNotFound, methods.MethodListError, ValueError) as error:
+        print(f"wall_study.py: {error}", file=sys.stderr)
+        return 2
+    cases = cases_of(catalogue, chosen, models, scenes or list(SCENES), quick)
     if not cases:
         print("wall_study.py: no case: no boundary model of --models belongs to a method of --methods", file=sys.stderr)
         return 2
-    os.makedirs(os.path.join(args.out, "cases"), exist_ok=True)
-    parallel = max(1, args.parallel)
-    threads = max(1, (os.cpu_count() or 1) // parallel)
-    if not args.collect:
-        if not os.access(args.binary, os.X_OK):
-            print(f"wall_study.py: {args.binary}: no mps_lab binary (build it first: tools/build.sh)", file=sys.stderr)
-            return 2
-        run_cases(cases, os.path.abspath(args.out), os.path.abspath(args.binary), parallel, threads, args.timeout)
-    rows = [row_of(case, args.out) for case in cases]
-    write_csv(rows, os.path.join(args.out, "wall_study.csv"))
-    with open(os.path.join(args.out, "wall_study.md"), "w") as handle:
-        handle.write(markdown(rows, args.quick))
+    os.makedirs(os.path.join(out, "cases"), exist_ok=True)
+    parallel = max(1, parallel)
+    if not collect_only:
+        run_cases(cases, os.path.abspath(out), found, parallel, runner.threads_per_case(parallel), timeout)
+    boundary_models = sorted({m for info in catalogue.values() for m in info.boundary_models})
+    rows = [row_of(case, out, boundary_models) for case in cases]
+    write_csv(rows, COLUMNS, os.path.join(out, "wall_study.csv"))
+    with open(os.path.join(out, "wall_study.md"), "w") as handle:
+        handle.write(markdown(rows, quick))
     counts = {status: sum(r["status"] == status for r in rows) for status in dict.fromkeys(r["status"] for r in rows)}
     print(f"wall_study: {len(rows)} cases ({', '.join(f'{n} {s}' for s, n in counts.items())}) -> "
-          f"{os.path.join(args.out, 'wall_study.csv')}")
-    if not args.no_plots and rows:
-        plot(rows, os.path.join(args.out, "wall_study.png"))
+          f"{os.path.join(out, 'wall_study.csv')}")
+    if plots and rows:
+        plot(rows, os.path.join(out, "wall_study.png"))
     return 0
-
-
-if __name__ == "__main__":
-    sys.exit(main())

@@ -1,0 +1,32 @@
+#!/usr/bin/env python3
+"""The performance study (analysis/mps_lab/studies/performance.py): arguments only."""
+from __future__ import annotations
+
+import argparse
+import os
+import sys
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from mps_lab.studies import performance  # noqa: E402
+
+
+def main(argv: list[str] | None = None) -> int:
+    parser = argparse.ArgumentParser(description=performance.__doc__,
+                                     formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser.add_argument("--out", default="runs/performance")
+    parser.add_argument("--binary", help="mps_lab binary (default: $MPS_LAB_BINARY, else build/mps_lab, else PATH)")
+    parser.add_argument("--only", nargs="+", choices=["reference", "resolutions", "scaling", "figures"])
+    parser.add_argument("--max-fluid", type=float, default=1.1e6)
+    parser.add_argument("--quick", action="store_true", help="tiny cases, for the tests")
+    parser.add_argument("--docs", action="store_true", help="copy the results into docs/data and docs/figures")
+    parser.add_argument("--timeout", type=float, default=performance.DEFAULT_TIMEOUT,
+                        help="seconds before a run or bench is stopped")
+    parser.add_argument("--plan", default=str(performance.DEFAULT_PLAN),
+                        help="the runs, reference figures and bench settings (JSON)")
+    args = parser.parse_args(argv)
+    return performance.performance(args.out, args.binary, args.only, args.max_fluid, args.quick, args.docs,
+                                   args.timeout, args.plan)
+
+
+if __name__ == "__main__":
+    sys.exit(main())
