@@ -6,7 +6,10 @@ to a `calls` file beside it, so the tests count the attempts. The real binary's 
 parsed too. Run by CTest (label analysis); MPS_LAB_BINARY names build/mps_lab."""
 from __future__ import annotations
 
+import ast
+import glob
 import os
+import re
 import shutil
 import stat
 import subprocess
@@ -203,6 +206,30 @@ class MethodStylesTest(unittest.TestCase):
         for name, info in catalogue.items():
             self.assertIn(info.default_boundary_model, info.boundary_models, name)
             self.assertEqual(info.boundary_models.count(info.default_boundary_model), 1, name)
+
+
+
+class NoMethodNamesInAnalysisTest(unittest.TestCase):
+    def test_no_string_literal_names_a_registered_method(self):
+        """No string in the code of analysis/ (docstrings, the help texts, are allowed to give
+        examples) names a registered method, in any case or inside a key such as
+        "methods.<name>.x": the methods come from `mps_lab methods`, so a new one is never
+        left out of a study or a figure. Data files (analysis/sweeps/*.json) may name them."""
+        registered = methods.registered_methods(BINARY)
+        found = []
+        for path in sorted(glob.glob(os.path.join(ROOT, "analysis", "**", "*.py"), recursive=True)):
+            with open(path) as handle:
+                tree = ast.parse(handle.read())
+            docstrings = {id(node.body[0].value) for node in ast.walk(tree)
+                          if isinstance(node, (ast.Module, ast.ClassDef, ast.FunctionDef)) and node.body
+                          and isinstance(node.body[0], ast.Expr) and isinstance(node.body[0].value, ast.Constant)}
+            for node in ast.walk(tree):
+                if not (isinstance(node, ast.Constant) and isinstance(node.value, str)) or id(node) in docstrings:
+                    continue
+                for name in registered:
+                    if re.search(rf"(?<!\w){re.escape(name)}(?!\w)", node.value, re.IGNORECASE):
+                        found.append(f"{os.path.relpath(path, ROOT)}:{node.lineno}: {node.value[:60]!r}")
+        self.assertEqual(found, [])
 
 
 if __name__ == "__main__":

@@ -105,6 +105,16 @@ class SweepTest(unittest.TestCase):
         self.assertIn("colour: unknown key", result.stderr)
         self.assertEqual(len(result.stderr.strip().splitlines()), 1)
 
+    def test_unregistered_method_is_one_line(self):
+        """The spec's methods are checked against `mps_lab methods` before anything runs."""
+        with open(self.spec, "w") as handle:
+            json.dump({**SPEC, "methods": {"no_such_method": {}}}, handle)
+        result = self.sweep()
+        self.assertEqual(result.returncode, 2)
+        self.assertIn("methods.no_such_method: not a registered method", result.stderr)
+        self.assertEqual(len(result.stderr.strip().splitlines()), 1)
+        self.assertFalse(os.path.exists(os.path.join(self.out, "cases")))
+
     def test_pareto_front_and_order(self):
         points = [(1.0, 0.5), (2.0, 0.3), (3.0, 0.4), (4.0, 0.1), (5.0, 0.1)]
         self.assertEqual(sweep.pareto_front(points), [0, 1, 3])

@@ -64,7 +64,7 @@ import sys
 import numpy as np
 
 from .. import SOURCE_ROOT, data, methods, runner
-from .common import FINISHED, case_folder, run_summary, write_csv
+from .common import FINISHED, case_folder, run_summary, status_of, write_csv
 
 DEFAULT_TIMEOUT = 3600.0  # s per case
 SCENES = {  # name: scene file, end time, quick end time, extra overrides
@@ -129,11 +129,6 @@ def arguments_of(case: dict, out: str) -> list[str]:
 
 def summary_of(out: str, case: dict) -> dict | None:
     return run_summary(case_folder(out, case["name"]))
-
-
-def status_of(out: str, case: dict) -> str:
-    summary = summary_of(out, case)
-    return summary.get("status", "unknown") if summary is not None else "missing"
 
 
 def record_outcome(case: dict, out: str, result: runner.CaseResult) -> str:
