@@ -149,7 +149,7 @@ def bench(binary: str, arguments: list[str], json_path: Path, per_spacing: list[
         command += ["--per-spacing", item]
     command += arguments
     print("performance.py:", " ".join(command), flush=True)
-    result = runner.run_case(binary, command, timeout=timeout, proc_bind=PROC_BIND)
+    result = runner.run_case(binary, command, timeout=timeout, proc_bind=PROC_BIND, keep=None)  # its whole table
     if not result.ok:
         raise StudyError(f"mps_lab {' '.join(command)}: {result.describe()}: {result.last_error_line()}")
     print(result.stdout, flush=True)

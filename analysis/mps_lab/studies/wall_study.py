@@ -2,7 +2,7 @@
 
     /usr/bin/python3 analysis/wall_study.py --out runs/wall_study --parallel 2       # run (resumes), collect, plot
     /usr/bin/python3 analysis/wall_study.py --methods mps --models default mirror_particles --scenes hydrostatic
-    /usr/bin/python3 analysis/wall_study.py --out runs/wall_study --collect          # only collect and plot (asks the binary for the methods)
+    /usr/bin/python3 analysis/wall_study.py --out runs/wall_study --collect  # collect and plot only (needs the binary)
     /usr/bin/python3 analysis/wall_study.py --out /tmp/ws --quick                   # short end times (tests)
 
 A boundary model is the wall treatment that represents the walls to the fluid (core/walls/).
