@@ -1,161 +1,28 @@
 #!/usr/bin/env python3
-"""Figures and a report comparing methods on one scene.
+"""Figures and a report comparing methods on one scene (analysis/mps_lab/report.py).
 
-    /usr/bin/python3 analysis/compare.py RUNS_FOLDER [--runs A B ...] [--times 0.1 0.2 ...] [--quiet]
-
-RUNS_FOLDER is what `mps_lab compare` writes: one sub-folder per method (each a run folder
-with run.json and series.csv) and summary.csv. Without summary.csv (runs made one by one),
-the table is computed here with the same definitions. --runs takes run folders from
-anywhere instead of the sub-folders. Writes into RUNS_FOLDER:
-
-    front.png  height.png  snapshots.png  wall_pressure.png  energy.png
-    animation.mp4 (ffmpeg installed) or animation.gif    report.md
-"""
+Called by `mps_lab compare` (app/commands.cpp) as `compare.py RUNS_FOLDER [--quiet]`."""
 from __future__ import annotations
 
 import argparse
-import csv
 import os
 import sys
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-import figures  # noqa: E402
-import mps_lab_data as data  # noqa: E402
-
-DEFAULT_TIMES = [0.1, 0.2, 0.3, 0.5, 1.0, 2.0]
-
-
-def find_runs(root: str) -> list[str]:
-    folders = [os.path.join(root, name) for name in sorted(os.listdir(root))]
-    return [folder for folder in folders if os.path.isfile(os.path.join(folder, "run.json"))]
-
-
-def summary_rows(root: str, runs: list[data.Run]) -> list[dict[str, str]]:
-    """summary.csv as written by mps_lab compare, or the same columns computed here."""
-    path = os.path.join(root, "summary.csv")
-    if os.path.isfile(path):
-        with open(path, newline="") as handle:
-            rows = list(csv.DictReader(handle))
-        if {row["method"] for row in rows} >= {run.method for run in runs}:
-            return rows
-    rows = []
-    exp_t, exp_z = data.martin_moyce_front()
-    exp_tau, exp_h = data.martin_moyce_height()
-    for run in runs:
-        t, z = run.front_curve()
-        rms, largest, points = data.curve_error(t, z, exp_t, exp_z)
-        shifted = data.best_shift_error(t, z, exp_t, exp_z)
-        tau, h = run.height_curve()
-        h_rms, h_max, h_points = data.curve_error(tau, h, exp_tau, exp_h)
-        density = run.series["density_error"][1:]
-        rows.append({
-            "method": run.method, "status": run.summary["status"], "steps": str(run.summary.get("steps", 0)),
-            "wall_seconds": str(run.summary.get("wall_seconds", 0.0)),
-            "particle_steps_per_second": str(run.summary.get("fluid_particle_steps_per_second", 0.0)),
-            "mean_solver_iterations": str(run.summary.get("solver", {}).get("mean_iterations", 0.0)),
-            "front_rms": str(rms), "front_max": str(largest), "front_points": str(points),
-            "front_best_shift": str(shifted[3]), "front_rms_shifted": str(shifted[0]),
-            "height_rms": str(h_rms), "height_max": str(h_max), "height_points": str(h_points),
-            "density_error_mean": str(density.mean() if density.size else 0.0),
-            "density_error_max": str(density.max() if density.size else 0.0),
-            "ghosts": str(run.summary.get("particles", {}).get("ghost_final", 0)),
-        })
-    return rows
-
-
-def markdown_table(rows: list[dict[str, str]]) -> str:
-    header = ("| method | status | steps | wall time [s] | particle-steps/s | mean solver iterations | "
-              "front RMS | front max | best shift | front RMS (shifted) | height RMS | mean density error | ghosts |")
-    lines = [header, "|" + "---|" * 13]
-    for row in rows:
-        f = {key: float(value) for key, value in row.items() if key not in ("method", "status")}
-        lines.append(
-            f"| {row['method']} | {row['status']} | {int(f['steps'])} | {f['wall_seconds']:.2f} | "
-            f"{f['particle_steps_per_second'] / 1e6:.2f} M | {f['mean_solver_iterations']:.1f} | "
-            f"{f['front_rms']:.3f} | {f['front_max']:.3f} | {f['front_best_shift']:+.3f} | "
-            f"{f['front_rms_shifted']:.3f} | {f['height_rms']:.3f} | {100 * f['density_error_mean']:.2f} % | "
-            f"{int(f['ghosts'])} |")
-    return "\n".join(lines)
-
-
-def write_report(root: str, runs: list[data.Run], rows: list[dict[str, str]], figures_written: dict[str, str]) -> str:
-    first = runs[0].summary
-    shared = first["shared"]
-    lines = [
-        f"# Method comparison: {os.path.basename(first['scene'])}",
-        "",
-        f"Scene `{first['scene']}`, l0 = {shared['particle_spacing']:g} m, end time {shared['end_time']:g} s, "
-        f"{first['threads']} threads, mps_lab {first['git_revision']}.",
-        "",
-        "## Summary",
-        "",
-        markdown_table(rows),
-        "",
-        "Front: Z = front/a against T = n t sqrt(g/a) at the 15 points of Martin & Moyce (1952) Table 2; "
-        "height: H* = h/(n^2 a) against tau = t sqrt(g/a) at the points of Table 6; a and H = n^2 a are the "
-        "column between the wall surfaces. The best shift is the T shift in [-0.3, 0.3] with the least RMS "
-        "(positive: the simulation is ahead). Density error: mean |rho/rho_L - 1| over fluid particles with "
-        "full support, one kernel for every method, averaged over the run. Definitions: docs/validation.md.",
-        "",
-    ]
-    captions = {
-        "front": "Surge front against Martin & Moyce (1952)",
-        "height": "Residual height at the back wall against Martin & Moyce (1952)",
-        "snapshots": "Particles coloured by pressure, methods by rows",
-        "wall_pressure": "Pressure at the wall sensor",
-        "energy": "Kinetic energy and density error",
-        "animation": "Animation, all methods side by side",
-    }
-    for key, caption in captions.items():
-        if key in figures_written:
-            lines += [f"## {caption}", "", f"![{caption}]({os.path.basename(figures_written[key])})", ""]
-    lines += ["## Runs", ""]
-    for run in runs:
-        lines.append(f"- `{os.path.relpath(run.folder, root)}`: {run.summary['method_description']}")
-    path = os.path.join(root, "report.md")
-    with open(path, "w") as handle:
-        handle.write("\n".join(lines) + "\n")
-    return path
+from mps_lab import report  # noqa: E402
 
 
 def main(argv: list[str] | None = None) -> int:
-    parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser = argparse.ArgumentParser(description=report.__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("root", help="folder with one run folder per method (what mps_lab compare writes)")
     parser.add_argument("--runs", nargs="+", help="run folders to compare instead of the root's sub-folders")
-    parser.add_argument("--times", nargs="+", type=float, default=DEFAULT_TIMES, help="snapshot times [s]")
+    parser.add_argument("--times", nargs="+", type=float, default=report.DEFAULT_TIMES, help="snapshot times [s]")
     parser.add_argument("--no-animation", action="store_true", help="skip the animation")
+    parser.add_argument("--binary", help="mps_lab binary whose methods fix the colours")
     parser.add_argument("--quiet", action="store_true")
     args = parser.parse_args(argv)
-
-    folders = args.runs or find_runs(args.root)
-    if not folders:
-        print(f"compare.py: {args.root}: no run folders (sub-folders with run.json)", file=sys.stderr)
-        return 2
-    try:
-        runs = [data.load_run(folder) for folder in folders]
-    except (OSError, KeyError, ValueError) as error:
-        print(f"compare.py: cannot read the runs: {error}", file=sys.stderr)
-        return 2
-    os.makedirs(args.root, exist_ok=True)
-    end = min(float(run.series["time"][-1]) for run in runs)
-    times = [t for t in args.times if t <= end + 1e-9] or [end]
-
-    written = {}
-    for key, draw in [("front", figures.plot_front), ("height", figures.plot_height), ("energy", figures.plot_energy)]:
-        written[key] = os.path.join(args.root, key + ".png")
-        draw(runs, written[key])
-    written["snapshots"] = os.path.join(args.root, "snapshots.png")
-    figures.plot_snapshots(runs, times, written["snapshots"])
-    sensor_path = os.path.join(args.root, "wall_pressure.png")
-    if figures.plot_sensor(runs, sensor_path):
-        written["wall_pressure"] = sensor_path
-    if not args.no_animation:
-        written["animation"] = figures.make_animation(runs, os.path.join(args.root, "animation"))
-    rows = summary_rows(args.root, runs)
-    report = write_report(args.root, runs, rows, written)
-    if not args.quiet:
-        print(f"compare.py: {len(written)} figures and {report}")
-    return 0
+    return report.compare(args.root, args.runs, args.times, animation=not args.no_animation, quiet=args.quiet,
+                          binary=args.binary)
 
 
 if __name__ == "__main__":

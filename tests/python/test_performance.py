@@ -1,8 +1,9 @@
-"""The performance study (analysis/performance.py) on a tiny real study (--quick: the dam break
-at l0 = 0.025 for mps and isph, one bench resolution, scaling at l0 = 0.01 with 1 and 2
-threads): the CSV, JSON, tables and figures are written; the ratio against the reference
-figure is the measured speed over 0.23 M; the scaling summary's spread and the speed-ups on
-synthetic cases with known answers. Run by CTest; MPS_LAB_BINARY names build/mps_lab."""
+"""The performance study (analysis/performance.py, analysis/mps_lab/studies/performance.py) on
+a tiny real study (--quick: the dam break at l0 = 0.025 for mps and isph, one bench
+resolution, scaling at l0 = 0.01 with 1 and 2 threads): the CSV, JSON, tables and figures are
+written; the ratio against the reference figure is the measured speed over 0.23 M; the
+scaling summary's spread and the speed-ups on synthetic cases with known answers. Run by
+CTest; MPS_LAB_BINARY names build/mps_lab."""
 from __future__ import annotations
 
 import csv
@@ -14,7 +15,7 @@ import unittest
 
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 sys.path.insert(0, os.path.join(ROOT, "analysis"))
-import performance  # noqa: E402
+from mps_lab.studies import performance  # noqa: E402
 
 BINARY = os.environ.get("MPS_LAB_BINARY", os.path.join(ROOT, "build", "mps_lab"))
 
@@ -24,14 +25,16 @@ class PerformanceStudyTest(unittest.TestCase):
         with tempfile.TemporaryDirectory() as out:
             subprocess.run([sys.executable, os.path.join(ROOT, "analysis", "performance.py"), "--out", out, "--quick",
                             "--binary", BINARY], check=True, capture_output=True)
-            rows = list(csv.DictReader(open(os.path.join(out, "reference.csv"))))
+            with open(os.path.join(out, "reference.csv"), newline="") as handle:
+                rows = list(csv.DictReader(handle))
             self.assertEqual([(r["method"], float(r["particle_spacing"])) for r in rows],
                              [("mps", 0.025), ("isph", 0.025)])
             for row in rows:
                 self.assertEqual(row["status"], "completed")
                 self.assertEqual(int(row["steps"]), 40)  # 0.02 s at 5e-4 s
                 self.assertGreater(float(row["ms_pressure_solve"]), 0.0)
-            table = open(os.path.join(out, "performance.md")).read()
+            with open(os.path.join(out, "performance.md")) as handle:
+                table = handle.read()
             speed = float(rows[0]["particle_steps_per_second"])
             self.assertIn(f"{speed / 0.23e6:.2f}x", table)
             self.assertIn("## Scaling", table)
@@ -50,6 +53,23 @@ class PerformanceStudyTest(unittest.TestCase):
         self.assertAlmostEqual(two["low"], 100.0 / 120.0 - 1.0)
         self.assertAlmostEqual(two["high"], 150.0 / 120.0 - 1.0)
         self.assertEqual(performance.speedups(cases), [("mps", 100000, 2.7 / 1.5)])
+
+    def test_plan_follows_the_registered_methods(self):
+        """The plan (analysis/sweeps/performance.json) is data: a run or a bench key of a
+        method the binary does not register is left out (a subset build)."""
+        plan = performance.load_plan(performance.DEFAULT_PLAN)
+        self.assertEqual(len(performance.reference_cases(plan, ["mps", "isph", "dfsph"], quick=False)), 9)
+        only = performance.reference_cases(plan, ["isph"], quick=False)
+        self.assertEqual([(c["method"], c["particle_spacing"]) for c in only],
+                         [("isph", 0.025), ("isph", 0.0125), ("isph", 0.005)])
+        quick = performance.reference_cases(plan, ["mps", "isph", "dfsph"], quick=True)
+        self.assertEqual([(c["method"], c["end_time"]) for c in quick], [("mps", 0.02), ("isph", 0.02)])
+        self.assertEqual(performance.bench_per_spacing(plan, ["mps", "isph", "dfsph"]),
+                         ["methods.dfsph.max_time_step=1.0"])
+        self.assertEqual(performance.bench_per_spacing(plan, ["mps", "isph"]), [])
+        figure = performance.reference_figure(plan, "dfsph", 0.005, 1e-4)
+        self.assertEqual((figure["code"], figure["particle_steps_per_second"]), ("SPlisHSPlasH DFSPH", 0.5e6))
+        self.assertIsNone(performance.reference_figure(plan, "isph", 0.025, None))
 
     def test_fluid_counts_of_the_scaling_spacings(self):
         self.assertEqual(performance.fluid_count(0.05 / 5), 24 * 49)

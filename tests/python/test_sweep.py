@@ -14,7 +14,7 @@ import unittest
 
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 sys.path.insert(0, os.path.join(ROOT, "analysis"))
-import sweep  # noqa: E402
+from mps_lab.studies import sweep  # noqa: E402
 
 BINARY = os.environ.get("MPS_LAB_BINARY", os.path.join(ROOT, "build", "mps_lab"))
 SPEC = {
@@ -104,6 +104,16 @@ class SweepTest(unittest.TestCase):
         self.assertEqual(result.returncode, 2)
         self.assertIn("colour: unknown key", result.stderr)
         self.assertEqual(len(result.stderr.strip().splitlines()), 1)
+
+    def test_unregistered_method_is_one_line(self):
+        """The spec's methods are checked against `mps_lab methods` before anything runs."""
+        with open(self.spec, "w") as handle:
+            json.dump({**SPEC, "methods": {"no_such_method": {}}}, handle)
+        result = self.sweep()
+        self.assertEqual(result.returncode, 2)
+        self.assertIn("methods.no_such_method: not a registered method", result.stderr)
+        self.assertEqual(len(result.stderr.strip().splitlines()), 1)
+        self.assertFalse(os.path.exists(os.path.join(self.out, "cases")))
 
     def test_pareto_front_and_order(self):
         points = [(1.0, 0.5), (2.0, 0.3), (3.0, 0.4), (4.0, 0.1), (5.0, 0.1)]

@@ -20,7 +20,8 @@ import numpy as np
 
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 sys.path.insert(0, os.path.join(ROOT, "analysis"))
-import wall_study  # noqa: E402
+from mps_lab import methods  # noqa: E402
+from mps_lab.studies import wall_study  # noqa: E402
 
 BINARY = os.environ.get("MPS_LAB_BINARY", os.path.join(ROOT, "build", "mps_lab"))
 RHO, G = 1000.0, 9.81
@@ -97,7 +98,9 @@ class WallStudyTest(unittest.TestCase):
     def test_failing_binary_is_recorded(self):
         fake = os.path.join(self.folder, "fake_mps_lab")
         with open(fake, "w") as handle:
-            handle.write("#!/bin/sh\necho 'mps_lab: error: something unsupported' >&2\nexit 2\n")
+            # lists the real methods (the study asks for them), refuses every run
+            handle.write(f"#!/bin/sh\nif [ \"$1\" = methods ]; then exec '{os.path.abspath(BINARY)}' \"$@\"; fi\n"
+                         "echo 'mps_lab: error: something unsupported' >&2\nexit 2\n")
         os.chmod(fake, os.stat(fake).st_mode | stat.S_IEXEC)
         result = self.study("--models", "mirror_particles", "--scenes", "hydrostatic", binary=fake)
         self.assertEqual(result.returncode, 0, result.stderr)
@@ -152,17 +155,20 @@ class WallStudyTest(unittest.TestCase):
         self.assertAlmostEqual(wall_study.hydrostatic_frame(frame, RHO, G)[0], 1.2, places=12)
 
     def test_cases_and_commands(self):
-        cases = wall_study.cases_of(["mps", "dfsph"], ["default", "mirror_particles"], ["hydrostatic"])
+        catalogue = methods.method_catalogue(BINARY)
+        if not {"mps", "dfsph"} <= set(catalogue):
+            self.skipTest("a build without mps or dfsph (MPS_LAB_METHODS)")
+        cases = wall_study.cases_of(catalogue, ["mps", "dfsph"], ["default", "mirror_particles"], ["hydrostatic"])
         self.assertEqual([c["name"] for c in cases], ["hydrostatic__mps__spec_wall_particles",
                                                       "hydrostatic__mps__mirror_particles",
                                                       "hydrostatic__dfsph__akinci_boundary",
                                                       "hydrostatic__dfsph__mirror_particles"])
-        command = wall_study.arguments_of(cases[1], "/o", "mps_lab")
+        command = wall_study.arguments_of(cases[1], "/o")
         self.assertIn("methods.mps.wall_treatments.mirror_particles={}", command)
         self.assertIn("stability.on_divergence=\"continue\"", command)
         self.assertIn("output.frame_interval=0.05", command)
         self.assertEqual(command[command.index("--end-time") + 1], "1.0")
-        self.assertFalse(any("wall_treatments" in a for a in wall_study.arguments_of(cases[0], "/o", "mps_lab")))
+        self.assertFalse(any("wall_treatments" in a for a in wall_study.arguments_of(cases[0], "/o")))
 
 
 if __name__ == "__main__":

@@ -19,7 +19,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
-VALIDATION_DIR = os.path.join(os.path.dirname(os.path.abspath(__file__)), "validation")
+from . import ANALYSIS_DIR
+
+VALIDATION_DIR = os.path.join(ANALYSIS_DIR, "validation")
 
 
 def read_csv_columns(path: str) -> dict[str, np.ndarray]:

@@ -1,7 +1,9 @@
-"""Figures of mps_lab runs: one function per figure, shared by plot_run.py and compare.py.
+"""Figures of mps_lab runs: one function per figure, shared by plot_run.py and the report.
 
-Every function takes loaded runs (mps_lab_data.Run) and a path, and writes one PNG (or, for
-the animation, a GIF or MP4). Axes carry the non-dimensional definitions or units.
+Every function takes loaded runs (data.Run), a path and, where runs are told apart by
+colour, the method styles (methods.MethodStyles: one colour per registered method), and
+writes one PNG (or, for the animation, a GIF or MP4). Axes carry the non-dimensional
+definitions or units. Importing this module sets the shared matplotlib style.
 """
 from __future__ import annotations
 
@@ -15,7 +17,8 @@ import numpy as np  # noqa: E402
 from matplotlib import animation  # noqa: E402
 from matplotlib.colors import Normalize  # noqa: E402
 
-import mps_lab_data as data  # noqa: E402
+from . import data  # noqa: E402
+from .methods import MethodStyles  # noqa: E402
 
 plt.rcParams.update({
     "font.size": 11,
@@ -27,25 +30,28 @@ plt.rcParams.update({
     "savefig.dpi": 150,
 })
 
-METHOD_COLOURS = {"mps": "tab:blue", "isph": "tab:orange", "dfsph": "tab:green"}
-
-
-def colour_of(run: data.Run, index: int) -> str:
-    return METHOD_COLOURS.get(run.method, f"C{index + 3}")
+def run_colours(runs: list[data.Run], styles: MethodStyles) -> list[str]:
+    """One colour per run: its method's, or, when two runs share a method (plot_run.py on
+    several runs of one method), one per run."""
+    methods = [run.method for run in runs]
+    if len(set(methods)) == len(methods):
+        return [styles.colour(method) for method in methods]
+    return [f"C{k % 10}" for k in range(len(runs))]
 
 
 def label_of(run: data.Run) -> str:
     return f"{run.method} (l0 = {run.summary['shared']['particle_spacing']:g} m)"
 
 
-def plot_against_experiment(runs: list[data.Run], path: str, curve_of, experiment, marker: str, labels: dict) -> None:
+def plot_against_experiment(runs: list[data.Run], path: str, styles: MethodStyles, curve_of, experiment,
+                            marker: str, labels: dict) -> None:
     """One quantity of every run against its experimental points: curve_of(run) -> (x, y)."""
     fig, ax = plt.subplots(figsize=(6.4, 4.4))
     exp_x, exp_y = experiment
-    for k, run in enumerate(runs):
+    for run, colour in zip(runs, run_colours(runs, styles)):
         x, y = curve_of(run)
         rms, _, _ = data.curve_error(x, y, exp_x, exp_y)
-        ax.plot(x, y, color=colour_of(run, k), label=f"{label_of(run)}: RMS {rms:.3f}")
+        ax.plot(x, y, color=colour, label=f"{label_of(run)}: RMS {rms:.3f}")
     ax.plot(exp_x, exp_y, marker, color="k", mfc="none", linestyle="none", label="Martin & Moyce (1952), $n^2 = 2$")
     ax.set_xlabel(labels["x"])
     ax.set_ylabel(labels["y"])
@@ -58,16 +64,16 @@ def plot_against_experiment(runs: list[data.Run], path: str, curve_of, experimen
     plt.close(fig)
 
 
-def plot_front(runs: list[data.Run], path: str) -> None:
+def plot_front(runs: list[data.Run], path: str, styles: MethodStyles) -> None:
     """Surge front Z = z/a against T = n t sqrt(g/a), with Martin & Moyce (1952) Table 2."""
-    plot_against_experiment(runs, path, lambda run: run.front_curve(), data.martin_moyce_front(), "o",
+    plot_against_experiment(runs, path, styles, lambda run: run.front_curve(), data.martin_moyce_front(), "o",
                             {"x": r"$T = n\,t\,\sqrt{g/a}$", "y": r"$Z = z/a$", "xlim": (0, 4.0), "ylim": (1, 4.6),
                              "legend": "upper left", "title": "Surge front"})
 
 
-def plot_height(runs: list[data.Run], path: str) -> None:
+def plot_height(runs: list[data.Run], path: str, styles: MethodStyles) -> None:
     """Residual height H* = h/(n^2 a) against tau = t sqrt(g/a), with Martin & Moyce Table 6."""
-    plot_against_experiment(runs, path, lambda run: run.height_curve(), data.martin_moyce_height(), "s",
+    plot_against_experiment(runs, path, styles, lambda run: run.height_curve(), data.martin_moyce_height(), "s",
                             {"x": r"$\tau = t\,\sqrt{g/a}$", "y": r"$H^* = h/(n^2 a)$", "xlim": (0, 8.0),
                              "ylim": (0, 1.05), "legend": "upper right",
                              "title": "Residual column height at the back wall"})
@@ -153,16 +159,16 @@ def plot_snapshots(runs: list[data.Run], times: list[float], path: str) -> None:
     plt.close(fig)
 
 
-def plot_sensor(runs: list[data.Run], path: str) -> bool:
+def plot_sensor(runs: list[data.Run], path: str, styles: MethodStyles) -> bool:
     """Pressure at the scene's first pressure sensor against time; False if there is none."""
     sensors = [name for name in runs[0].series if name.startswith("pressure_")]
     if not sensors:
         return False
     name = sensors[0]
     fig, ax = plt.subplots(figsize=(7.0, 4.0))
-    for k, run in enumerate(runs):
+    for run, colour in zip(runs, run_colours(runs, styles)):
         if name in run.series:
-            ax.plot(run.series["time"], run.series[name] / 1000.0, color=colour_of(run, k), lw=1.0, label=run.method)
+            ax.plot(run.series["time"], run.series[name] / 1000.0, color=colour, lw=1.0, label=run.method)
     position = next((s["position"] for s in runs[0].summary["scene_resolved"].get("diagnostics", {})
                      .get("pressure_sensors", []) if "pressure_" + s["name"] == name), None)
     where = f" at ({position[0]:g}, {position[1]:g}) m" if position else ""
@@ -176,12 +182,12 @@ def plot_sensor(runs: list[data.Run], path: str) -> bool:
     return True
 
 
-def plot_energy(runs: list[data.Run], path: str) -> None:
+def plot_energy(runs: list[data.Run], path: str, styles: MethodStyles) -> None:
     """Kinetic energy and the common density error against time."""
     fig, (top, bottom) = plt.subplots(2, 1, figsize=(7.0, 6.0), sharex=True)
-    for k, run in enumerate(runs):
-        top.plot(run.series["time"], run.series["kinetic_energy"], color=colour_of(run, k), label=run.method)
-        bottom.plot(run.series["time"], 100.0 * run.series["density_error"], color=colour_of(run, k), lw=1.0,
+    for run, colour in zip(runs, run_colours(runs, styles)):
+        top.plot(run.series["time"], run.series["kinetic_energy"], color=colour, label=run.method)
+        bottom.plot(run.series["time"], 100.0 * run.series["density_error"], color=colour, lw=1.0,
                     label=run.method)
     top.set_ylabel("kinetic energy [J/m]")
     top.legend()

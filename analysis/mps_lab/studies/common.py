@@ -1,0 +1,72 @@
+"""What the studies share: the statuses that end a case, the case folders, CSV output and
+the check of a specification's methods against the registered ones."""
+from __future__ import annotations
+
+import csv
+import json
+import math
+import os
+
+from .. import SOURCE_ROOT
+
+# Statuses of run.json that end a case for good (docs/scene-format.md, `stability`): a
+# diverged or solver-failed run is an outcome to record, not an interruption to resume.
+FINISHED = ("completed", "diverged", "solver_failed", "failed")
+
+
+class SpecError(Exception):
+    """A bad study specification or option; the message is one line naming the key."""
+
+
+def load_json(path: str) -> dict:
+    try:
+        with open(path) as handle:
+            return json.load(handle)
+    except (OSError, json.JSONDecodeError) as error:
+        raise SpecError(f"{path}: {error}") from error
+
+
+def source_path(path: str) -> str:
+    """A path of a specification (a scene): absolute as given, else relative to the source tree."""
+    return path if os.path.isabs(path) else os.path.join(SOURCE_ROOT, path)
+
+
+def case_folder(out: str, name: str) -> str:
+    return os.path.join(out, "cases", name)
+
+
+def run_summary(folder: str) -> dict | None:
+    """run.json of a run folder, None when there is none (or it is unreadable)."""
+    try:
+        with open(os.path.join(folder, "run.json")) as handle:
+            return json.load(handle)
+    except (OSError, json.JSONDecodeError):
+        return None
+
+
+def status_of(out: str, case: dict) -> str:
+    """run.json's status of a case, "missing" without one."""
+    summary = run_summary(case_folder(out, case["name"]))
+    return summary.get("status", "unknown") if summary is not None else "missing"
+
+
+def check_methods(wanted: list[str], registered: list[str], where: str) -> None:
+    """Every method a specification names is registered in the binary."""
+    for method in wanted:
+        if method not in registered:
+            raise SpecError(f"{where}.{method}: not a registered method (mps_lab methods lists: "
+                            f"{', '.join(registered)})")
+
+
+def write_csv(rows: list[dict], columns: list[str], path: str, nan_as_empty: bool = True) -> None:
+    """Atomically (a temporary file renamed); NaN as an empty cell, or as "nan" (sweep.csv)."""
+    def cell(value):
+        return "" if nan_as_empty and isinstance(value, float) and math.isnan(value) else value
+
+    temporary = path + ".tmp"
+    with open(temporary, "w", newline="") as handle:
+        writer = csv.DictWriter(handle, fieldnames=columns, extrasaction="ignore")
+        writer.writeheader()
+        for row in rows:
+            writer.writerow({key: cell(row.get(key, "")) for key in columns})
+    os.replace(temporary, path)
