@@ -4,7 +4,9 @@ Finding the binary (`find_binary`), in this order:
   1. the --binary option of the study (an explicit path must exist: no silent fallback);
   2. the MPS_LAB_BINARY environment variable (CTest sets it to the binary it built);
   3. build/mps_lab of this source tree;
-  4. an `mps_lab` on PATH (an installed copy).
+  4. the installed binary beside an installed copy of this package (`cmake --install`:
+     P/share/mps_lab/analysis/mps_lab/ and P/bin/mps_lab);
+  5. an `mps_lab` on PATH.
 
 Running one case (`run_case`): the binary and a list of arguments, never a shell; a timeout;
 an environment (OMP_NUM_THREADS, OMP_PROC_BIND on top of the caller's); the result is a
@@ -56,6 +58,14 @@ def default_build_binary() -> str:
     return os.path.join(SOURCE_ROOT, "build", "mps_lab")
 
 
+def installed_binary() -> str | None:
+    """P/bin/mps_lab when this package is installed as P/share/mps_lab/analysis/mps_lab/."""
+    root = os.path.abspath(SOURCE_ROOT)
+    if os.path.basename(root) != "mps_lab" or os.path.basename(os.path.dirname(root)) != "share":
+        return None
+    return os.path.join(os.path.dirname(os.path.dirname(root)), "bin", "mps_lab")
+
+
 def is_executable(path: str) -> bool:
     return os.path.isfile(path) and os.access(path, os.X_OK)
 
@@ -76,6 +86,9 @@ def find_binary(explicit: str | None = None, environment: dict | None = None, bu
         return os.path.abspath(from_environment)
     if is_executable(build_binary):
         return os.path.abspath(build_binary)
+    beside = installed_binary()
+    if beside and is_executable(beside):
+        return beside
     on_path = shutil.which("mps_lab", path=environment.get("PATH", os.defpath))
     if on_path:
         return os.path.abspath(on_path)

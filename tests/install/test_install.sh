@@ -39,4 +39,8 @@ mv "$data.new" "$data"
 shifted=$(sed -n 2p "$prefix/run2/summary.csv" | cut -d, -f"$column")
 awk -v a="$value" -v b="$shifted" 'BEGIN { exit !(b - a > 0.5) }' \
   || { echo "the installed binary did not read the installed data: front_rms $value, then $shifted"; exit 1; }
+# The installed analysis package finds the installed binary (no MPS_LAB_BINARY, empty PATH).
+found=$(env -u MPS_LAB_BINARY PATH=/nonexistent /usr/bin/python3 -c \
+  "import sys; sys.path.insert(0, '$prefix/share/mps_lab/analysis'); from mps_lab.runner import find_binary; print(find_binary(environment={}))")
+[ "$found" = "$prefix/bin/mps_lab" ] || { echo "installed analysis found '$found', expected $prefix/bin/mps_lab"; exit 1; }
 echo "install test: $version; front_rms to 0.2 s = $value, against the shifted installed data $shifted"
