@@ -200,6 +200,11 @@ def plot_energy(runs: list[data.Run], path: str, styles: MethodStyles) -> None:
     plt.close(fig)
 
 
+def ffmpeg_available() -> bool:
+    """Whether matplotlib can write MP4 (Debian's ffmpeg); without it the animation is a GIF."""
+    return animation.writers.is_available("ffmpeg")
+
+
 def make_animation(runs: list[data.Run], path_stem: str, max_frames: int = 80) -> str:
     """All methods side by side; MP4 when ffmpeg is available, else an animated GIF.
 
@@ -233,7 +238,7 @@ def make_animation(runs: list[data.Run], path_stem: str, max_frames: int = 80) -
 
     movie = animation.FuncAnimation(fig, draw, frames=len(times), blit=False)
     fig.tight_layout()
-    if animation.writers.is_available("ffmpeg"):
+    if ffmpeg_available():
         path = path_stem + ".mp4"
         movie.save(path, writer=animation.FFMpegWriter(fps=10))
     else:

@@ -9,15 +9,18 @@ same definitions. --runs takes run folders from anywhere instead of the sub-fold
 into RUNS_FOLDER:
 
     front.png  height.png  snapshots.png  wall_pressure.png  energy.png
-    animation.mp4 (ffmpeg installed) or animation.gif    report.md
+    animation.mp4 (ffmpeg installed) or animation.gif    report.md, report.html (self-contained)
 
 Each method keeps its colour from the sorted list of the binary's methods (--binary, else
 MPS_LAB_BINARY, else build/mps_lab, else mps_lab on PATH; without any, from the runs' methods).
 """
 from __future__ import annotations
 
+import base64
 import csv
+import html
 import os
+import re
 import sys
 
 from . import data, figures, methods
@@ -78,35 +81,36 @@ def markdown_table(rows: list[dict[str, str]]) -> str:
     return "\n".join(lines)
 
 
-def write_report(root: str, runs: list[data.Run], rows: list[dict[str, str]], figures_written: dict[str, str]) -> str:
+CAPTIONS = {
+    "front": "Surge front against Martin & Moyce (1952)",
+    "height": "Residual height at the back wall against Martin & Moyce (1952)",
+    "snapshots": "Particles coloured by pressure, methods by rows",
+    "wall_pressure": "Pressure at the wall sensor",
+    "energy": "Kinetic energy and density error",
+    "animation": "Animation, all methods side by side",
+}
+
+DEFINITIONS = (
+    "Front: Z = front/a against T = n t sqrt(g/a) at the 15 points of Martin & Moyce (1952) Table 2; "
+    "height: H* = h/(n^2 a) against tau = t sqrt(g/a) at the points of Table 6; a and H = n^2 a are the "
+    "column between the wall surfaces. The best shift is the T shift in [-0.3, 0.3] with the least RMS "
+    "(positive: the simulation is ahead). Density error: mean |rho/rho_L - 1| over fluid particles with "
+    "full support, one kernel for every method, averaged over the run. Definitions: docs/validation.md.")
+
+
+def report_title(runs: list[data.Run]) -> tuple[str, str]:
+    """The report's title and the line under it (scene, spacing, end time, threads, revision)."""
     first = runs[0].summary
     shared = first["shared"]
-    lines = [
-        f"# Method comparison: {os.path.basename(first['scene'])}",
-        "",
-        f"Scene `{first['scene']}`, l0 = {shared['particle_spacing']:g} m, end time {shared['end_time']:g} s, "
-        f"{first['threads']} threads, mps_lab {first['git_revision']}.",
-        "",
-        "## Summary",
-        "",
-        markdown_table(rows),
-        "",
-        "Front: Z = front/a against T = n t sqrt(g/a) at the 15 points of Martin & Moyce (1952) Table 2; "
-        "height: H* = h/(n^2 a) against tau = t sqrt(g/a) at the points of Table 6; a and H = n^2 a are the "
-        "column between the wall surfaces. The best shift is the T shift in [-0.3, 0.3] with the least RMS "
-        "(positive: the simulation is ahead). Density error: mean |rho/rho_L - 1| over fluid particles with "
-        "full support, one kernel for every method, averaged over the run. Definitions: docs/validation.md.",
-        "",
-    ]
-    captions = {
-        "front": "Surge front against Martin & Moyce (1952)",
-        "height": "Residual height at the back wall against Martin & Moyce (1952)",
-        "snapshots": "Particles coloured by pressure, methods by rows",
-        "wall_pressure": "Pressure at the wall sensor",
-        "energy": "Kinetic energy and density error",
-        "animation": "Animation, all methods side by side",
-    }
-    for key, caption in captions.items():
+    return (f"Method comparison: {os.path.basename(first['scene'])}",
+            f"Scene `{first['scene']}`, l0 = {shared['particle_spacing']:g} m, end time {shared['end_time']:g} s, "
+            f"{first['threads']} threads, mps_lab {first['git_revision']}.")
+
+
+def write_report(root: str, runs: list[data.Run], rows: list[dict[str, str]], figures_written: dict[str, str]) -> str:
+    title, subtitle = report_title(runs)
+    lines = [f"# {title}", "", subtitle, "", "## Summary", "", markdown_table(rows), "", DEFINITIONS, ""]
+    for key, caption in CAPTIONS.items():
         if key in figures_written:
             lines += [f"## {caption}", "", f"![{caption}]({os.path.basename(figures_written[key])})", ""]
     lines += ["## Runs", ""]
@@ -115,6 +119,56 @@ def write_report(root: str, runs: list[data.Run], rows: list[dict[str, str]], fi
     path = os.path.join(root, "report.md")
     with open(path, "w") as handle:
         handle.write("\n".join(lines) + "\n")
+    return path
+
+
+MEDIA_TYPES = {".png": "image/png", ".gif": "image/gif", ".mp4": "video/mp4"}
+
+
+def embedded_figure(path: str, caption: str) -> str:
+    """One figure as HTML with its file inside (a data: URI): a picture or a looping video."""
+    extension = os.path.splitext(path)[1].lower()
+    with open(path, "rb") as handle:
+        uri = f"data:{MEDIA_TYPES[extension]};base64," + base64.b64encode(handle.read()).decode("ascii")
+    if extension == ".mp4":
+        return f'<video controls loop muted src="{uri}" title="{html.escape(caption)}"></video>'
+    return f'<img src="{uri}" alt="{html.escape(caption)}">'
+
+
+def html_table(rows: list[dict[str, str]]) -> str:
+    """The summary table of report.md as HTML (same columns, same formatting)."""
+    lines = markdown_table(rows).splitlines()
+    cells = [[c.strip() for c in line.strip("|").split("|")] for line in lines if not line.startswith("|---")]
+    head = "".join(f"<th>{html.escape(c)}</th>" for c in cells[0])
+    body = "".join("<tr>" + "".join(f"<td>{html.escape(c)}</td>" for c in row) + "</tr>" for row in cells[1:])
+    return f"<table><thead><tr>{head}</tr></thead><tbody>{body}</tbody></table>"
+
+
+HTML_STYLE = ("body{font-family:sans-serif;max-width:1100px;margin:2em auto;padding:0 1em;color:#222}"
+              "table{border-collapse:collapse;font-size:0.9em}td,th{border:1px solid #bbb;padding:3px 6px;"
+              "text-align:right}td:first-child,th:first-child{text-align:left}img,video{max-width:100%}"
+              "code{background:#eee;padding:0 3px}")
+
+
+def write_html_report(root: str, runs: list[data.Run], rows: list[dict[str, str]],
+                      figures_written: dict[str, str]) -> str:
+    """report.html: report.md's content in one self-contained file (figures embedded), for a browser."""
+    title, subtitle = report_title(runs)
+    code = lambda text: re.sub(r"`([^`]*)`", r"<code>\1</code>", html.escape(text))  # noqa: E731
+    parts = [f"<!DOCTYPE html><html lang=\"en\"><head><meta charset=\"utf-8\"><title>{html.escape(title)}</title>",
+             f"<style>{HTML_STYLE}</style></head><body>", f"<h1>{html.escape(title)}</h1>", f"<p>{code(subtitle)}</p>",
+             "<h2>Summary</h2>", html_table(rows), f"<p>{html.escape(DEFINITIONS)}</p>"]
+    for key, caption in CAPTIONS.items():
+        if key in figures_written:
+            parts += [f"<h2>{html.escape(caption)}</h2>", embedded_figure(figures_written[key], caption)]
+    parts.append("<h2>Runs</h2><ul>")
+    for run in runs:
+        parts.append(f"<li>{code('`' + os.path.relpath(run.folder, root) + '`')}: "
+                     f"{html.escape(run.summary['method_description'])}</li>")
+    parts.append("</ul></body></html>")
+    path = os.path.join(root, "report.html")
+    with open(path, "w") as handle:
+        handle.write("\n".join(parts) + "\n")
     return path
 
 
@@ -153,9 +207,11 @@ def compare(root: str, run_folders: list[str] | None = None, times: list[float] 
     shown = [t for t in times if t <= end + 1e-9] or [end]
     styles = methods.styles_for([run.method for run in runs], binary)
     written = draw_figures(root, runs, shown, animation, styles)
-    report = write_report(root, runs, summary_rows(root, runs), written)
+    rows = summary_rows(root, runs)
+    report = write_report(root, runs, rows, written)
+    page = write_html_report(root, runs, rows, written)
     if not quiet:
-        print(f"compare.py: {len(written)} figures and {report}")
+        print(f"compare.py: {len(written)} figures, {report} and {page} (self-contained)")
     return 0
 
 

@@ -70,6 +70,21 @@ class ComparisonTest(unittest.TestCase):
             self.assertIn(f"]({figure})", report)
         self.assertIn("| method | status |", report)
 
+    def test_html_report_is_one_self_contained_file(self):
+        """report.html holds every figure of report.md inline (data: URIs) and no link to a file."""
+        with open(os.path.join(self.folder, "report.html")) as handle:
+            page = handle.read()
+        self.assertTrue(page.startswith("<!DOCTYPE html>"))
+        with open(os.path.join(self.folder, "report.md")) as handle:
+            figures_in_markdown = handle.read().count("![")
+        embedded = page.count('src="data:image/png;base64,') + page.count('src="data:image/gif;base64,') + \
+            page.count('src="data:video/mp4;base64,')
+        self.assertEqual(embedded, figures_in_markdown)
+        self.assertNotRegex(page, r'src="(?!data:)')
+        self.assertNotRegex(page, r'href="')
+        listed = subprocess.run([BINARY, "methods"], capture_output=True, text=True).stdout.splitlines()
+        self.assertEqual(page.count("<tr>") - 1, len(listed))  # a row per method under the header
+
     def test_python_recomputes_the_summary(self):
         """summary.csv (C++) and the same metrics computed by analysis/ agree to round-off."""
         with open(os.path.join(self.folder, "summary.csv"), newline="") as handle:
@@ -94,6 +109,47 @@ class ComparisonTest(unittest.TestCase):
             self.assertAlmostEqual(float(row["height_rms"]), h_rms, places=9, msg=method)
             with open(os.path.join(self.folder, method, "run.json")) as handle:
                 self.assertEqual(row["status"], json.load(handle)["status"])
+
+
+class AnimationFallbackTest(unittest.TestCase):
+    """The animation is an MP4 with Debian's ffmpeg (tools/install-dependencies.sh installs it) and a
+    GIF without it; both from the same two-frame run folder."""
+
+    @classmethod
+    def setUpClass(cls):
+        cls.folder = tempfile.mkdtemp(prefix="mps_lab_animation_")
+        environment = dict(os.environ, OMP_NUM_THREADS="1")
+        cls.result = subprocess.run([BINARY, "run", "--method", "mps", os.path.join(ROOT, "scenes", "dambreak.json"),
+                                     "--out", os.path.join(cls.folder, "run"), "--end-time", "0.1", "--quiet"],
+                                    capture_output=True, text=True, env=environment)
+
+    @classmethod
+    def tearDownClass(cls):
+        shutil.rmtree(cls.folder, ignore_errors=True)
+
+    def animate(self, ffmpeg: bool) -> str:
+        from unittest import mock
+        from mps_lab import figures
+        self.assertEqual(self.result.returncode, 0, self.result.stderr)
+        run = data.load_run(os.path.join(self.folder, "run"))
+        with mock.patch.object(figures, "ffmpeg_available", return_value=ffmpeg):
+            return figures.make_animation([run], os.path.join(self.folder, "mp4" if ffmpeg else "gif"))
+
+    def test_gif_without_ffmpeg(self):
+        path = self.animate(False)
+        self.assertTrue(path.endswith(".gif"))
+        with open(path, "rb") as handle:
+            self.assertEqual(handle.read(6), b"GIF89a")
+
+    def test_mp4_with_ffmpeg(self):
+        from mps_lab import figures
+        if not shutil.which("ffmpeg"):
+            self.fail("ffmpeg is missing: tools/install-dependencies.sh installs it")
+        self.assertTrue(figures.ffmpeg_available())
+        path = self.animate(True)
+        self.assertTrue(path.endswith(".mp4"))
+        with open(path, "rb") as handle:
+            self.assertEqual(handle.read(12)[4:8], b"ftyp")  # an ISO media file
 
 
 if __name__ == "__main__":
