@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cstddef>
 
+#include "core/search/for_each_neighbour.hpp"
+
 namespace mps_lab::dfsph {
 namespace {
 
@@ -36,13 +38,12 @@ const Vec2* prepare(const ParticleSet& particles, const SphSystem& system, std::
   if (system.kernel.weighted_gradient.size() == list.indices.size()) return system.kernel.weighted_gradient.data();
   w.weighted_gradient.assign(list.indices.size(), Vec2::Zero());  // as compute_kernel_cache with the masses
   for (const std::uint32_t i : w.fluid) {
-    for (std::uint32_t k = list.begin(i); k < list.end(i); ++k) {
-      const std::uint32_t j = list.indices[k];
+    for_each_neighbour(list, i, [&](std::uint32_t k, std::uint32_t j) {
       const double mass = particles.type[j] == ParticleType::Fluid ? system.particle_mass
                           : is_boundary(particles, system, j)      ? system.boundary_mass[j]
                                                                    : 0.0;
       w.weighted_gradient[k] = mass * system.kernel.gradient[k];
-    }
+    });
   }
   return w.weighted_gradient.data();
 }
@@ -131,10 +132,10 @@ SolverOutcome iterate(ParticleSet& particles, const SphSystem& system, const std
         if (k < end) even += (vi - velocity[neighbour[k]]).cwiseProduct(coefficient[k]);
         double rate = (even + odd).sum();  // kg/(m^3 s)
         if (samples != nullptr) {
-          for (std::uint32_t q = samples->begin(i); q < samples->end(i); ++q) {
-            const Vec2 uw = sample_velocity(samples->samples[q], w.velocity);  // u_w = M v_s, now
+          for_each_neighbour(*samples, i, [&](std::uint32_t q, const WallSample& wall) {
+            const Vec2 uw = sample_velocity(wall, w.velocity);  // u_w = M v_s, now
             rate += sample->mass[q] * (vi - uw).dot(sample->gradient[q]);
-          }
+          });
         }
         double relative = 0.0;
         const double change = settle(i, rate, relative);
