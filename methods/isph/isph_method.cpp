@@ -93,10 +93,8 @@ class IsphMethod final : public Method {
     // "auto": AMG from amg_min_fluid_particles on (docs/performance.md: at 741 fluid particles
     // the diagonal preconditioner is 1.3x faster, at 4851 AMG is 1.5x faster), decided once per
     // run from the initial particles, so a restored checkpoint decides the same.
-    settings_.preconditioner = preconditioner_from_name(
-        preconditioner_choice_ != "auto" ? preconditioner_choice_
-        : particles.count(ParticleType::Fluid) >= amg_min_fluid_particles_ ? "amg"
-                                                                            : "diagonal");
+    settings_.preconditioner = choose_preconditioner(preconditioner_choice_, particles.count(ParticleType::Fluid),
+                                                     amg_min_fluid_particles_);
     acceleration_.assign(n, Vec2::Zero());
     predicted_velocity_.assign(n, Vec2::Zero());
     source_.assign(n, 0.0);
@@ -256,9 +254,7 @@ class IsphMethod final : public Method {
         {"nominal_mass_rho0_l0_squared", rest_density_ * l0 * l0},
         {"wall_treatments", walls_.names()},
         {"boundary_model", walls_.boundary_name()},
-        {"preconditioner", settings_.preconditioner == PreconditionerKind::Amg            ? "amg"
-                           : settings_.preconditioner == PreconditionerKind::IncompleteLu ? "incomplete_lu"
-                                                                                          : "diagonal"},
+        {"preconditioner", preconditioner_name(settings_.preconditioner)},
         {"mean_iterations", clock_.steps() > 0 ? static_cast<double>(total_iterations_) / static_cast<double>(clock_.steps()) : 0.0},
         {"nonconverged_solves", nonconverged_solves_},
         {"time_step", clock_.summary(time_step_settings_)},
@@ -486,10 +482,10 @@ void mps_lab_register_method_isph(mps_lab::MethodRegistry& registry) {
       boolean_parameter("clamp_negative_pressure", true,
                         "set p < 0 to 0 after the solve, fluid and wall (against the tensile instability)"),
       string_parameter("preconditioner", "auto",
-                       "BiCGSTAB preconditioner; auto: amg from amg_min_fluid_particles fluid particles on, diagonal below")
-          .one_of({"auto", "diagonal", "incomplete_lu", "amg"}),
+                       "BiCGSTAB preconditioner (incomplete_factorisation: ILU(0)); auto: amg from amg_min_fluid_particles fluid particles on, jacobi below")
+          .one_of(preconditioner_choices()),
       integer_parameter("amg_min_fluid_particles", 2000,
-                        "preconditioner auto: the fluid particle count from which AMG beats the diagonal one (measured)")
+                        "preconditioner auto: the fluid particle count from which AMG beats Jacobi (measured)")
           .at_least(0),
       number_parameter("solver_tolerance", 1.0e-8, "", "BiCGSTAB stops at ||b - A p|| / ||b|| below this (rows in Pa)")
           .above(0.0)

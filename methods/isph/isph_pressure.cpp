@@ -1,34 +1,12 @@
 #include "methods/isph/isph_pressure.hpp"
 
 #include <cmath>
-#include <stdexcept>
 
-#include "core/linalg/amg.hpp"
 #include "core/linalg/pressure_system.hpp"
+#include "core/search/for_each_neighbour.hpp"
 #include "methods/isph/isph_operators.hpp"
 
 namespace mps_lab::isph {
-
-namespace {
-
-// The row blocks of the incomplete-LU preconditioner: fixed (not the thread count), so that
-// the result does not depend on it; two blocks let two threads factor and solve at once.
-constexpr int kIncompleteLuBlocks = 2;
-
-std::unique_ptr<Preconditioner> make_preconditioner(PreconditionerKind kind) {
-  if (kind == PreconditionerKind::IncompleteLu) return std::make_unique<IncompleteLuPreconditioner>(kIncompleteLuBlocks);
-  if (kind == PreconditionerKind::Amg) return std::make_unique<AmgPreconditioner>();  // core/linalg/amg.hpp
-  return std::make_unique<JacobiPreconditioner>();
-}
-
-}  // namespace
-
-PreconditionerKind preconditioner_from_name(const std::string& name) {
-  if (name == "diagonal") return PreconditionerKind::Diagonal;
-  if (name == "incomplete_lu") return PreconditionerKind::IncompleteLu;
-  if (name == "amg") return PreconditionerKind::Amg;
-  throw std::invalid_argument("unknown preconditioner '" + name + "' (expected diagonal, incomplete_lu or amg)");
-}
 
 Eigen::SparseMatrix<double, Eigen::RowMajor> PressurePoissonSolver::matrix() const { return to_eigen(matrix_); }
 
@@ -57,42 +35,38 @@ void PressurePoissonSolver::assemble_rows(const ParticleSet& particles, const Ne
     if (particles.type[i] == ParticleType::Fluid) {
       // Cummins & Rudman (1999) / Shao & Lo (2003) Laplacian: sum_j a_ij (p_i - p_j) = -S_i
       double diagonal = 0.0;
-      for (std::uint32_t k = neighbours.begin(i); k < neighbours.end(i); ++k) {
-        const std::uint32_t j = neighbours.indices[k];
-        if (particles.type[j] == ParticleType::Ghost) continue;
+      for_each_neighbour(neighbours, i, [&](std::uint32_t j) {
+        if (particles.type[j] == ParticleType::Ghost) return;
         const double factor =
             laplacian_pair_factor(kernel, particles.position[i] - particles.position[j], settings.eta2);
         const double a = fluid_scale * ppe_pair_coefficient(settings.mass, density[i], density[j], factor);
-        if (a == 0.0) continue;
+        if (a == 0.0) return;
         diagonal += a;
         if (row_of_[j] >= 0) {
           writer.add(row_of_[j], -a);
         } else {
           grounded = true;  // a surface neighbour, p = 0
         }
-      }
+      });
       // Wall samples: a_iw (p_i - p_s - rho0 g . (x_w - x_s)); the hydrostatic part is known.
       double wall_head = 0.0;  // sum_w a_iw rho0 g . (x_w - x_s), Pa
-      if (with_samples) {
-        for (std::uint32_t k = samples.begin(i); k < samples.end(i); ++k) {
-          const WallSample& wall = samples.samples[k];
-          const std::uint32_t s = wall.source;
-          if (particles.type[s] == ParticleType::Ghost) continue;
-          const double factor = laplacian_pair_factor(kernel, particles.position[i] - wall.position, settings.eta2);
-          const double a = fluid_scale * ppe_pair_coefficient(settings.mass * wall.volume, density[i],
-                                                              settings.rest_density, factor);
-          if (a == 0.0) continue;
-          wall_head +=
-              a * sample_pressure_offset(wall, particles.position, settings.rest_density, settings.gravity);
-          if (s == i) continue;  // p_w - p_i = the hydrostatic part alone
-          diagonal += a;
-          if (row_of_[s] >= 0) {
-            writer.add(row_of_[s], -a);
-          } else {
-            grounded = true;  // the image of a surface particle, p_s = 0
-          }
+      for_each_neighbour(samples, i, [&](const WallSample& wall) {
+        const std::uint32_t s = wall.source;
+        if (particles.type[s] == ParticleType::Ghost) return;
+        const double factor = laplacian_pair_factor(kernel, particles.position[i] - wall.position, settings.eta2);
+        const double a = fluid_scale * ppe_pair_coefficient(settings.mass * wall.volume, density[i],
+                                                            settings.rest_density, factor);
+        if (a == 0.0) return;
+        wall_head +=
+            a * sample_pressure_offset(wall, particles.position, settings.rest_density, settings.gravity);
+        if (s == i) return;  // p_w - p_i = the hydrostatic part alone
+        diagonal += a;
+        if (row_of_[s] >= 0) {
+          writer.add(row_of_[s], -a);
+        } else {
+          grounded = true;  // the image of a surface particle, p_s = 0
         }
-      }
+      });
       if (diagonal == 0.0) {  // no neighbour within the support: p = 0
         diagonal = 1.0;
         grounded = true;
@@ -106,24 +80,22 @@ void PressurePoissonSolver::assemble_rows(const ParticleSet& particles, const Ne
       //   p_w = (sum_f p_f W_wf + g . sum_f rho_f (x_w - x_f) W_wf) / sum_f W_wf
       double weight_sum = 0.0;
       Vec2 head = Vec2::Zero();
-      for (std::uint32_t k = neighbours.begin(i); k < neighbours.end(i); ++k) {
-        const std::uint32_t f = neighbours.indices[k];
-        if (particles.type[f] != ParticleType::Fluid) continue;
+      for_each_neighbour(neighbours, i, [&](std::uint32_t f) {
+        if (particles.type[f] != ParticleType::Fluid) return;
         weight_sum += kernel.value((particles.position[i] - particles.position[f]).norm());
-      }
-      for (std::uint32_t k = neighbours.begin(i); k < neighbours.end(i); ++k) {
-        const std::uint32_t f = neighbours.indices[k];
-        if (particles.type[f] != ParticleType::Fluid) continue;
+      });
+      for_each_neighbour(neighbours, i, [&](std::uint32_t f) {
+        if (particles.type[f] != ParticleType::Fluid) return;
         const Vec2 between = particles.position[i] - particles.position[f];
         const double w = kernel.value(between.norm()) / weight_sum;
-        if (w == 0.0) continue;
+        if (w == 0.0) return;
         head += density[f] * w * between;
         if (row_of_[f] >= 0) {
           writer.add(row_of_[f], -w);
         } else {
           grounded = true;  // a surface fluid neighbour, p = 0
         }
-      }
+      });
       writer.value(0) = 1.0;
       rhs_[static_cast<std::size_t>(row)] = settings.gravity.dot(head);
     }
@@ -158,11 +130,8 @@ PressureSolveResult PressurePoissonSolver::assemble(ParticleSet& particles, cons
   fluid_rows_ = result.fluid_unknowns;
   for (std::size_t i = 0; i < n; ++i) {
     if (particles.type[i] != ParticleType::Wall) continue;
-    bool sees_fluid = false;
-    for (std::uint32_t k = neighbours.begin(i); k < neighbours.end(i) && !sees_fluid; ++k) {
-      const std::uint32_t f = neighbours.indices[k];
-      sees_fluid = particles.type[f] == ParticleType::Fluid;
-    }
+    const bool sees_fluid =
+        any_neighbour(neighbours, i, [&](std::uint32_t f) { return particles.type[f] == ParticleType::Fluid; });
     if (!sees_fluid) continue;
     row_of_[i] = static_cast<int>(particle_of_.size());
     particle_of_.push_back(static_cast<int>(i));
@@ -186,29 +155,20 @@ PressureSolveResult PressurePoissonSolver::assemble(ParticleSet& particles, cons
 
 void PressurePoissonSolver::solve_assembled(ParticleSet& particles, const PressureSolveSettings& settings,
                                             PressureSolveResult& result) {
-  const int unknowns = matrix_.rows;
-  if (unknowns == 0) return;
-  if (!preconditioner_ || preconditioner_kind_ != settings.preconditioner) {
-    preconditioner_ = make_preconditioner(settings.preconditioner);
-    preconditioner_kind_ = settings.preconditioner;
-  }
-  preconditioner_->setup(matrix_);
-
-  gather_unknowns(particles.pressure, particle_of_, settings.warm_start, solution_);
-
   // BiCGSTAB until the recomputed residual ||b - A x|| / ||b|| is below the tolerance or the
   // iteration budget is spent (core/linalg/krylov.hpp restarts when the recurrence residual drifts).
-  KrylovSettings krylov;
-  krylov.tolerance = settings.tolerance;
-  krylov.max_iterations = settings.max_iterations;
-  const KrylovResult solved = bicgstab(matrix_, rhs_.data(), solution_.data(), *preconditioner_, krylov, workspace_);
-  if (!std::isfinite(solved.residual)) {
-    throw std::runtime_error("ISPH pressure solve: BiCGSTAB produced a non-finite pressure");
-  }
+  ProjectionSolverSettings solver;
+  solver.method = KrylovMethod::Bicgstab;  // the wall rows make A non-symmetric
+  solver.preconditioner = settings.preconditioner;
+  solver.tolerance = settings.tolerance;
+  solver.max_iterations = settings.max_iterations;
+  solver.warm_start = settings.warm_start;
+  solver.clamp_negative = false;  // clamped by the method
+  solver.non_finite_error = "ISPH pressure solve: BiCGSTAB produced a non-finite pressure";
+  const ProjectionSolveStatistics solved = solver_.solve(matrix_, rhs_, particle_of_, solver, particles.pressure);
   result.iterations = solved.iterations;
   result.residual = solved.residual;
   result.converged = solved.converged;
-  scatter_unknowns(solution_, particle_of_, /*clamp_negative=*/false, particles.pressure);  // clamped by the method
 }
 
 PressureSolveResult PressurePoissonSolver::solve(ParticleSet& particles, const NeighbourList& neighbours,

@@ -63,9 +63,8 @@ class MpsMethod final : public Method {
     // "auto": AMG from amg_min_fluid_particles on (docs/performance.md: at 741 fluid particles
     // Jacobi-CG is 1.5x faster, at 4851 AMG-CG is 1.6x faster), decided once per run from the
     // initial particles, so a restored checkpoint decides the same.
-    settings_.preconditioner = preconditioner_choice_ != "auto" ? preconditioner_choice_
-                               : particles.count(ParticleType::Fluid) >= amg_min_fluid_particles_ ? "amg"
-                                                                                                   : "jacobi";
+    settings_.preconditioner = choose_preconditioner(preconditioner_choice_, particles.count(ParticleType::Fluid),
+                                                     amg_min_fluid_particles_);
     carries_pressure_.assign(n, 0);
     for (std::size_t i = 0; i < n; ++i) {
       carries_pressure_[i] = particles.type[i] == ParticleType::Fluid ||
@@ -195,7 +194,7 @@ class MpsMethod final : public Method {
             {"laplacian_radius", radius_json(laplacian_radius_)},
             {"wall_treatments", walls_.names()},
             {"boundary_model", walls_.boundary_name()},
-            {"preconditioner", settings_.preconditioner},
+            {"preconditioner", preconditioner_name(settings_.preconditioner)},
             {"ghosts_created", ghosts_},
             {"ungrounded_groups_regularised", ungrounded_groups_},
             {"nonconverged_solves", nonconverged_solves_}};
@@ -301,8 +300,8 @@ void mps_lab_register_method_mps(mps_lab::MethodRegistry& registry) {
           .above(0.0)
           .below(1.0),
       string_parameter("preconditioner", "auto",
-                       "CG preconditioner; auto: amg from amg_min_fluid_particles fluid particles on, jacobi below")
-          .one_of({"auto", "jacobi", "incomplete_cholesky", "amg"}),
+                       "CG preconditioner (incomplete_factorisation: IC(0)); auto: amg from amg_min_fluid_particles fluid particles on, jacobi below")
+          .one_of(preconditioner_choices()),
       integer_parameter("amg_min_fluid_particles", 2000,
                         "preconditioner auto: the fluid particle count from which AMG beats Jacobi (measured)")
           .at_least(0),
