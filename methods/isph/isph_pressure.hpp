@@ -100,6 +100,19 @@ class PressurePoissonSolver {
   const std::vector<int>& particle_of_row() const { return particle_of_; }
 
  private:
+  // What every row of the assembly reads.
+  struct RowInputs {
+    const ParticleSet& particles;
+    const NeighbourList& neighbours;
+    const WallSampleList& samples;
+    const SphKernel& kernel;
+    const std::vector<double>& density;
+    const std::vector<double>& source;
+    const PressureSolveSettings& settings;
+    double fluid_scale;  // rho0 l0^2, kg/m: fluid rows in Pa
+  };
+  bool fluid_row(const RowInputs& in, int row, std::size_t i, CsrAssembler::RowWriter& writer);
+  bool wall_row(const RowInputs& in, int row, std::size_t i, CsrAssembler::RowWriter& writer);
   void assemble_rows(const ParticleSet& particles, const NeighbourList& neighbours, const WallSampleList& samples,
                      const SphKernel& kernel, const std::vector<double>& density, const std::vector<double>& source,
                      const PressureSolveSettings& settings);

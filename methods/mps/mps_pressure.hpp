@@ -85,6 +85,21 @@ class PressurePoissonSolver {
   }
 
  private:
+  // What every row of the assembly reads.
+  struct RowInputs {
+    const ParticleSet& particles;
+    const NeighbourList& neighbours;
+    const WallSampleList& samples;
+    const std::vector<double>& number_density;
+    const std::vector<char>& carries_pressure;
+    const OperatorRadius& laplacian;
+    const PressureSolveSettings& settings;
+    double n0;
+    double coefficient;  // 2d / (n0_L lambda_L), 1/m^2
+    double source;       // relaxation rho / dt^2, kg/(m^3 s^2)
+  };
+  void assemble_row(const RowInputs& in, int row);
+
   std::vector<int> row_of_;  // particle -> unknown index, -1 if not an unknown
   std::vector<int> particle_of_;
   std::vector<char> grounded_;  // per unknown: touches a Dirichlet particle
