@@ -124,10 +124,10 @@ TEST_CASE("ISPH solve: both preconditioners give the same pressure; incomplete L
   PressurePoissonSolver solver;
   system.settings.tolerance = 1e-10;
   ParticleSet diagonal_particles = system.particles, lut_particles = system.particles;
-  system.settings.preconditioner = PreconditionerKind::Diagonal;
+  system.settings.preconditioner = PreconditionerKind::Jacobi;
   const PressureSolveResult diagonal = solver.solve(diagonal_particles, system.neighbours, system.kernel,
                                                     system.density, system.surface, system.source, system.settings);
-  system.settings.preconditioner = PreconditionerKind::IncompleteLu;
+  system.settings.preconditioner = PreconditionerKind::IncompleteFactorisation;
   const PressureSolveResult lut = solver.solve(lut_particles, system.neighbours, system.kernel, system.density,
                                                system.surface, system.source, system.settings);
   INFO("diagonal " << diagonal.iterations << ", incomplete LU " << lut.iterations << " iterations");

@@ -152,7 +152,7 @@ TEST_CASE("PPE: CG agrees with a direct solve, and the system is symmetric posit
   CHECK((cg - exact).norm() <= 1e-8 * exact.norm());
 
   // Incomplete Cholesky preconditioning converges to the same solution in fewer iterations.
-  settings.preconditioner = "incomplete_cholesky";
+  settings.preconditioner = PreconditionerKind::IncompleteFactorisation;
   PressurePoissonSolver ic_solver;
   const auto ic = ic_solver.solve(particles, list, WallSampleList{}, n, carries, radius, radius.n0, 5e-4, settings, surface);
   CHECK(ic.converged);

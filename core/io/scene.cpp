@@ -365,11 +365,15 @@ Scene load_scene_text(const std::string& text, const std::string& source, const 
   return parse_scene(std::move(document), source, methods, walls);
 }
 
-Scene parse_scene(nlohmann::json document, const std::string& source, const MethodRegistry& methods,
-                  const WallTreatmentRegistry& walls) {
-  if (!document.is_object()) throw_input_error(source, "", "expected a JSON object at the top level");
-  Scene scene;
-  scene.source = source;
+namespace {
+
+// The steps of parse_scene, in the order it takes them: read each block into the scene
+// (resolve_parameters checks every key), then check the geometry, the time and the method
+// blocks against each other. Each throws InputError naming the key.
+
+// The top-level keys; every block that is given must be an object (null is not "the
+// defaults"; fluid_blocks is an array, read below).
+void read_top_level(const nlohmann::json& document, const std::string& source, Scene& scene) {
   const std::set<std::string> blocks = {"domain", "walls", "fluid_blocks", "physics", "time",
                                         "output", "diagnostics", "stability", "methods"};
   const auto top = resolve_parameters(top_level_keys(), document, source, "", blocks);
@@ -382,12 +386,17 @@ Scene parse_scene(nlohmann::json document, const std::string& source, const Meth
   scene.description = top.string("description");
   scene.particle_spacing = top.number("particle_spacing");
   scene.method = top.string("method");
+}
 
+void read_domain(const nlohmann::json& document, const std::string& source, Scene& scene) {
   if (!document.contains("domain")) throw_input_error(source, "domain", "missing; expected an object with min and max");
   const auto domain = resolve_parameters(domain_keys(), document.at("domain"), source, "domain");
   scene.domain.min = domain.vector2("min");
   scene.domain.max = domain.vector2("max");
+}
 
+// walls: the tank's layers and sides, and the obstacles.
+void read_walls(const nlohmann::json& document, const std::string& source, Scene& scene) {
   const auto& walls_json = block_or_null(document, "walls");
   const auto wall_block = resolve_parameters(wall_keys(), walls_json, source, "walls", {"obstacles"});
   if (walls_json.is_object() && walls_json.contains("obstacles")) {
@@ -408,7 +417,9 @@ Scene parse_scene(nlohmann::json document, const std::string& source, const Meth
     if (side == "right") scene.walls.right = true;
     if (side == "top") scene.walls.top = true;
   }
+}
 
+void read_fluid_blocks(const nlohmann::json& document, const std::string& source, Scene& scene) {
   if (!document.contains("fluid_blocks")) {
     throw_input_error(source, "fluid_blocks", "missing; expected an array of {min, max} blocks");
   }
@@ -421,13 +432,17 @@ Scene parse_scene(nlohmann::json document, const std::string& source, const Meth
     const auto block = resolve_parameters(fluid_block_keys(), fluid[k], source, path);
     scene.fluid_blocks.push_back({{block.vector2("min"), block.vector2("max")}, block.vector2("velocity")});
   }
+}
 
+void read_physics_and_time(const nlohmann::json& document, const std::string& source, Scene& scene) {
   const auto physics = resolve_parameters(physics_keys(), block_or_null(document, "physics"), source, "physics");
   scene.physics = {physics.number("density"), physics.number("kinematic_viscosity"), physics.vector2("gravity")};
 
   const auto time = resolve_parameters(time_keys(), block_or_null(document, "time"), source, "time");
   scene.time = {time.number("time_step"), time.number("end_time")};
+}
 
+void read_output(const nlohmann::json& document, const std::string& source, Scene& scene) {
   const auto output = resolve_parameters(output_keys(), block_or_null(document, "output"), source, "output");
   scene.output.directory = output.string("directory");
   scene.output.frame_every_steps = output.integer("frame_every_steps");
@@ -441,7 +456,10 @@ Scene parse_scene(nlohmann::json document, const std::string& source, const Meth
     if (format == "vtk") scene.output.vtk = true;
     if (format == "vtu") scene.output.vtu = true;
   }
+}
 
+// diagnostics, with its pressure sensors (names of letters, digits and _, each once).
+void read_diagnostics(const nlohmann::json& document, const std::string& source, Scene& scene) {
   const auto& diagnostics_block = block_or_null(document, "diagnostics");
   const auto diagnostics =
       resolve_parameters(diagnostics_keys(), diagnostics_block, source, "diagnostics", {"pressure_sensors"});
@@ -469,11 +487,11 @@ Scene parse_scene(nlohmann::json document, const std::string& source, const Meth
       scene.diagnostics.pressure_sensors.push_back({name, sensor.vector2("position")});
     }
   }
+}
 
-  scene.stability = stability_settings(
-      resolve_parameters(stability_keys(), block_or_null(document, "stability"), source, "stability"));
-
-  // Geometry that makes sense.
+// The domain: a positive, finite extent of at most 5e7 lattice points, at least four
+// spacings wide and high.
+void check_domain_extent(const std::string& source, const Scene& scene) {
   const double l0 = scene.particle_spacing;
   const Vec2 extent = scene.domain.max - scene.domain.min;
   if (!(extent.x() > 0.0 && extent.y() > 0.0)) {
@@ -496,8 +514,15 @@ Scene parse_scene(nlohmann::json document, const std::string& source, const Meth
                       "got " + describe_json(l0) + ", expected at most a quarter of the domain's width and height (" +
                           describe_json(extent.x()) + " x " + describe_json(extent.y()) + " m)");
   }
-  const std::string domain_text = describe_point(scene.domain.min) + " to " + describe_point(scene.domain.max);
-  // Blocks inside the domain cannot reach the wall layers, which lie on its sides and outside.
+}
+
+std::string describe_domain(const Scene& scene) {
+  return describe_point(scene.domain.min) + " to " + describe_point(scene.domain.max);
+}
+
+void check_fluid_blocks(const std::string& source, const Scene& scene) {
+  const double l0 = scene.particle_spacing;
+  const std::string domain_text = describe_domain(scene);
   for (std::size_t k = 0; k < scene.fluid_blocks.size(); ++k) {
     const Box& box = scene.fluid_blocks[k].region;
     const std::string path = "fluid_blocks[" + std::to_string(k) + "]";
@@ -514,6 +539,11 @@ Scene parse_scene(nlohmann::json document, const std::string& source, const Meth
       }
     }
   }
+}
+
+void check_obstacles(const std::string& source, const Scene& scene) {
+  const double l0 = scene.particle_spacing;
+  const std::string domain_text = describe_domain(scene);
   // Obstacles: boxes with lattice-point corners inside the domain (their wall particles sit on
   // the lattice, their surfaces l0/2 outside the box: core/walls/wall_geometry.hpp).
   for (std::size_t k = 0; k < scene.walls.obstacles.size(); ++k) {
@@ -537,6 +567,10 @@ Scene parse_scene(nlohmann::json document, const std::string& source, const Meth
       }
     }
   }
+}
+
+void check_pressure_sensors(const std::string& source, const Scene& scene) {
+  const std::string domain_text = describe_domain(scene);
   for (std::size_t k = 0; k < scene.diagnostics.pressure_sensors.size(); ++k) {
     const Vec2& position = scene.diagnostics.pressure_sensors[k].position;
     if (!inside_box(position, scene.domain, 0.0)) {
@@ -544,8 +578,10 @@ Scene parse_scene(nlohmann::json document, const std::string& source, const Meth
                         "got " + describe_point(position) + ", expected a point inside the domain " + domain_text);
     }
   }
-  check_lattice(scene);  // the domain a whole number of spacings, a lattice point in every block
+}
 
+// The time step against the end time and the output intervals; an output folder.
+void check_time_and_output(const std::string& source, const Scene& scene) {
   const double dt = scene.time.time_step;
   if (dt > scene.time.end_time && scene.time.end_time > 0.0) {
     throw_input_error(source, "time.time_step", "got " + describe_json(dt) + ", expected at most time.end_time (" +
@@ -568,9 +604,12 @@ Scene parse_scene(nlohmann::json document, const std::string& source, const Meth
   if (scene.output.directory.empty()) {
     throw_input_error(source, "output.directory", "got \"\", expected a folder name");
   }
+}
 
-  // Method blocks: every block must belong to a registered method and is validated even
-  // when another method runs, so a typo never waits for the day that block is used.
+// Method blocks: every block must belong to a registered method and is validated even
+// when another method runs, so a typo never waits for the day that block is used.
+const nlohmann::json& checked_method_blocks(const nlohmann::json& document, const std::string& source,
+                                            const MethodRegistry& methods) {
   const auto& method_blocks = block_or_null(document, "methods");
   if (!method_blocks.is_null() && !method_blocks.is_object()) {
     throw_input_error(source, "methods", "got " + describe_json(method_blocks) + ", expected an object");
@@ -589,6 +628,12 @@ Scene parse_scene(nlohmann::json document, const std::string& source, const Meth
       }
     }
   }
+  return method_blocks;
+}
+
+// Every registered method's parameters and wall treatments, from its block or the defaults.
+void read_method_configs(const nlohmann::json& method_blocks, const std::string& source,
+                         const MethodRegistry& methods, const WallTreatmentRegistry& walls, Scene& scene) {
   for (const auto* info : methods.all()) {
     const std::string path = "methods." + info->name;
     const nlohmann::json& block =
@@ -600,6 +645,34 @@ Scene parse_scene(nlohmann::json document, const std::string& source, const Meth
     config.wall_treatments = resolve_wall_treatments(*info, treatments, walls, source, path + ".wall_treatments");
     scene.methods.emplace(info->name, std::move(config));
   }
+}
+
+}  // namespace
+
+Scene parse_scene(nlohmann::json document, const std::string& source, const MethodRegistry& methods,
+                  const WallTreatmentRegistry& walls) {
+  if (!document.is_object()) throw_input_error(source, "", "expected a JSON object at the top level");
+  Scene scene;
+  scene.source = source;
+  read_top_level(document, source, scene);
+  read_domain(document, source, scene);
+  read_walls(document, source, scene);
+  read_fluid_blocks(document, source, scene);
+  read_physics_and_time(document, source, scene);
+  read_output(document, source, scene);
+  read_diagnostics(document, source, scene);
+  scene.stability = stability_settings(
+      resolve_parameters(stability_keys(), block_or_null(document, "stability"), source, "stability"));
+
+  // Geometry that makes sense.
+  check_domain_extent(source, scene);
+  // Blocks inside the domain cannot reach the wall layers, which lie on its sides and outside.
+  check_fluid_blocks(source, scene);
+  check_obstacles(source, scene);
+  check_pressure_sensors(source, scene);
+  check_lattice(scene);  // the domain a whole number of spacings, a lattice point in every block
+  check_time_and_output(source, scene);
+  read_method_configs(checked_method_blocks(document, source, methods), source, methods, walls, scene);
   if (methods.find(scene.method) == nullptr) {
     throw_input_error(source, "method", "unknown method '" + scene.method + "' (registered: " + join(methods.names()) + ")");
   }

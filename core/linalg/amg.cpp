@@ -186,37 +186,35 @@ void AmgPreconditioner::setup(const CsrMatrix& matrix) {
   factorise_coarsest();
 }
 
-void AmgPreconditioner::build_level(std::size_t level) {
-  Level& current = levels_[level];
-  Level& next = levels_[level + 1];
-  const CsrMatrix& a = level_matrix(level);
-  const int rows = a.rows;
-  const std::size_t nonzeros = a.nonzeros();
+namespace {
 
-  // 1. Strength of connection; the filtered diagonal d_F = a_ii + (sum of weak a_ij) and the
-  // Gershgorin bound of D_F^-1 A_F for the prolongator smoothing.
-  const double theta = options_.strength_threshold * std::pow(0.5, static_cast<double>(level));
+// Step 1 of a level: strength of connection (Vaněk, Mandel & Brezina 1996): a_rc is strong
+// when |a_rc| >= theta sqrt(|a_rr a_cc|); strong[k] per entry, 0 on the diagonal. Also the
+// filtered diagonal d_F = a_rr + (sum of weak a_rc) and returns the Gershgorin bound of
+// D_F^-1 A_F for the prolongator smoothing.
+double mark_strong_connections(const CsrMatrix& a, const std::vector<double>& inverse_diagonal, double theta,
+                               std::vector<char>& strong, std::vector<double>& filtered_diagonal) {
+  const int rows = a.rows;
   const double theta_squared = theta * theta;
-  current.strong.resize(nonzeros);
-  std::vector<double>& filtered_diagonal = current.residual;  // scratch until apply
+  strong.resize(a.nonzeros());
   double filtered_bound = 0.0;
 #pragma omp parallel for schedule(static) reduction(max : filtered_bound) if (rows >= kParallelRows)
   for (int r = 0; r < rows; ++r) {
-    const double inverse_r = current.inverse_diagonal[r];
+    const double inverse_r = inverse_diagonal[r];
     const double diagonal_r = inverse_r != 0.0 ? 1.0 / inverse_r : 0.0;
     double weak_sum = 0.0, strong_absolute_sum = 0.0;
     for (int k = a.row_start[r]; k < a.row_start[r + 1]; ++k) {
       const int c = a.column[k];
       if (c == r) {
-        current.strong[k] = 0;
+        strong[k] = 0;
         continue;
       }
       // |a_rc| >= theta sqrt(|a_rr a_cc|)  <=>  a_rc^2 |a_rr^-1 a_cc^-1| >= theta^2 (branch-free:
       // irregular particle patterns defeat the branch predictor)
       const double value = a.value[k];
-      const double normalised = value * value * std::abs(inverse_r * current.inverse_diagonal[c]);
+      const double normalised = value * value * std::abs(inverse_r * inverse_diagonal[c]);
       const bool is_strong = normalised >= theta_squared && value != 0.0;
-      current.strong[k] = static_cast<char>(is_strong);
+      strong[k] = static_cast<char>(is_strong);
       const double strong_part = is_strong ? 1.0 : 0.0;
       strong_absolute_sum += strong_part * std::abs(value);
       weak_sum += (1.0 - strong_part) * value;
@@ -226,96 +224,101 @@ void AmgPreconditioner::build_level(std::size_t level) {
     filtered_diagonal[r] = filtered;
     if (filtered != 0.0) filtered_bound = std::max(filtered_bound, 1.0 + strong_absolute_sum / std::abs(filtered));
   }
+  return filtered_bound;
+}
 
-  // 2. Greedy aggregation (sequential, O(rows)): Vaněk, Mandel & Brezina 1996, section 5.
-  std::vector<int>& aggregate = current.aggregate;
-  aggregate.assign(static_cast<std::size_t>(rows), kUnassigned);
-  for (int r = 0; r < rows; ++r) {
-    bool any_strong = false;
-    for (int k = a.row_start[r]; k < a.row_start[r + 1] && !any_strong; ++k) any_strong = current.strong[k] != 0;
-    if (!any_strong) aggregate[r] = kNoAggregate;
-  }
-  int aggregates = 0;
-  // Roots are visited in breadth-first order over the strong connections (restarting at the
-  // first unvisited row): aggregates then grow as a front, regular on a lattice, whatever the
-  // order of the unknowns (particles are not sorted); coarse rows inherit that locality.
-  std::vector<int>& order = current.visit_order;
-  std::vector<char>& visited = current.visited;
+// Roots are visited in breadth-first order over the strong connections (restarting at the
+// first unvisited row): aggregates then grow as a front, regular on a lattice, whatever the
+// order of the unknowns (particles are not sorted); coarse rows inherit that locality.
+void strong_breadth_first_order(const CsrMatrix& a, const std::vector<char>& strong, std::vector<int>& order,
+                                std::vector<char>& visited) {
+  const int rows = a.rows;
   order.resize(static_cast<std::size_t>(rows));
   visited.assign(static_cast<std::size_t>(rows), 0);
-  {
-    std::size_t head = 0, tail = 0;
-    for (int seed = 0; seed < rows; ++seed) {
-      if (visited[seed]) continue;
-      visited[seed] = 1;
-      order[tail++] = seed;
-      while (head < tail) {
-        const int r = order[head++];
-        for (int k = a.row_start[r]; k < a.row_start[r + 1]; ++k) {
-          const int c = a.column[k];
-          if (current.strong[k] && !visited[c]) {
-            visited[c] = 1;
-            order[tail++] = c;
-          }
+  std::size_t head = 0, tail = 0;
+  for (int seed = 0; seed < rows; ++seed) {
+    if (visited[seed]) continue;
+    visited[seed] = 1;
+    order[tail++] = seed;
+    while (head < tail) {
+      const int r = order[head++];
+      for (int k = a.row_start[r]; k < a.row_start[r + 1]; ++k) {
+        const int c = a.column[k];
+        if (strong[k] && !visited[c]) {
+          visited[c] = 1;
+          order[tail++] = c;
         }
       }
     }
   }
-  // Pass 1: a root whose strong neighbours are all free takes them all.
-  for (const int r : order) {
-    if (aggregate[r] != kUnassigned) continue;
-    bool all_free = true;
-    for (int k = a.row_start[r]; k < a.row_start[r + 1] && all_free; ++k)
-      if (current.strong[k] && aggregate[a.column[k]] >= 0) all_free = false;
-    if (!all_free) continue;
-    aggregate[r] = aggregates;
-    for (int k = a.row_start[r]; k < a.row_start[r + 1]; ++k)
-      if (current.strong[k] && aggregate[a.column[k]] == kUnassigned) aggregate[a.column[k]] = aggregates;
-    ++aggregates;
-  }
-  // Pass 2: a leftover joins the pass-1 aggregate it is most strongly connected to (recorded
-  // as -3 - aggregate, so that only pass-1 aggregates are joined).
-  for (int r = 0; r < rows; ++r) {
+}
+
+// A new aggregate `id` of row r and its unassigned strong neighbours.
+void form_aggregate(const CsrMatrix& a, const std::vector<char>& strong, int r, int id, std::vector<int>& aggregate) {
+  aggregate[r] = id;
+  for (int k = a.row_start[r]; k < a.row_start[r + 1]; ++k)
+    if (strong[k] && aggregate[a.column[k]] == kUnassigned) aggregate[a.column[k]] = id;
+}
+
+// Pass 2: a leftover joins the pass-1 aggregate it is most strongly connected to (recorded
+// as -3 - aggregate, so that only pass-1 aggregates are joined).
+void join_strongest_aggregates(const CsrMatrix& a, const std::vector<char>& strong, std::vector<int>& aggregate) {
+  for (int r = 0; r < a.rows; ++r) {
     if (aggregate[r] != kUnassigned) continue;
     double strongest = 0.0;
     int chosen = kUnassigned;
     for (int k = a.row_start[r]; k < a.row_start[r + 1]; ++k) {
       const int c = a.column[k];
-      if (current.strong[k] && aggregate[c] >= 0 && std::abs(a.value[k]) > strongest) {
+      if (strong[k] && aggregate[c] >= 0 && std::abs(a.value[k]) > strongest) {
         strongest = std::abs(a.value[k]);
         chosen = aggregate[c];
       }
     }
     if (chosen >= 0) aggregate[r] = -3 - chosen;
   }
+}
+
+// Step 2: greedy aggregation (sequential, O(rows)): Vaněk, Mandel & Brezina 1996, section 5.
+// aggregate[r] is r's coarse row, or kNoAggregate for a row without strong connections.
+// Returns the number of aggregates.
+int aggregate_rows(const CsrMatrix& a, const std::vector<char>& strong, std::vector<int>& aggregate,
+                   std::vector<int>& order, std::vector<char>& visited) {
+  const int rows = a.rows;
+  aggregate.assign(static_cast<std::size_t>(rows), kUnassigned);
+  for (int r = 0; r < rows; ++r) {
+    bool any_strong = false;
+    for (int k = a.row_start[r]; k < a.row_start[r + 1] && !any_strong; ++k) any_strong = strong[k] != 0;
+    if (!any_strong) aggregate[r] = kNoAggregate;
+  }
+  int aggregates = 0;
+  strong_breadth_first_order(a, strong, order, visited);
+  // Pass 1: a root whose strong neighbours are all free takes them all.
+  for (const int r : order) {
+    if (aggregate[r] != kUnassigned) continue;
+    bool all_free = true;
+    for (int k = a.row_start[r]; k < a.row_start[r + 1] && all_free; ++k)
+      if (strong[k] && aggregate[a.column[k]] >= 0) all_free = false;
+    if (!all_free) continue;
+    form_aggregate(a, strong, r, aggregates++, aggregate);
+  }
+  join_strongest_aggregates(a, strong, aggregate);
   // Pass 3: the rest form aggregates with their free strong neighbours.
   for (const int r : order) {
     if (aggregate[r] != kUnassigned) continue;
-    aggregate[r] = aggregates;
-    for (int k = a.row_start[r]; k < a.row_start[r + 1]; ++k)
-      if (current.strong[k] && aggregate[a.column[k]] == kUnassigned) aggregate[a.column[k]] = aggregates;
-    ++aggregates;
+    form_aggregate(a, strong, r, aggregates++, aggregate);
   }
   for (int r = 0; r < rows; ++r)
     if (aggregate[r] <= -3) aggregate[r] = -3 - aggregate[r];
-  const int coarse_rows = aggregates;
-  if (coarse_rows == 0 || coarse_rows >= rows) {  // nothing to coarsen: this level is the coarsest
-    next.matrix.clear_rows(0);
-    return;
-  }
+  return aggregates;
+}
 
-  // 3-4. Prolongator P = (I - omega D_F^-1 A_F) P0 (or P0), built with at most (row length + 1)
-  // entries per row in a strided layout, then compacted.
-  CsrMatrix& prolongator = current.prolongator;
-  const bool smooth = options_.smooth_prolongator;
-  const double omega = smooth ? (4.0 / 3.0) / std::max(filtered_bound, 1.0) : 0.0;
-  const std::size_t stride_total = nonzeros + static_cast<std::size_t>(rows);
-  // Scratch: the AP product's arrays are rebuilt below, so they hold the strided rows here.
-  CsrMatrix& strided = current.product;
-  strided.column.resize(stride_total);
-  strided.value.resize(stride_total);
-  prolongator.rows = rows;
-  prolongator.row_start.resize(static_cast<std::size_t>(rows) + 1);
+// Step 3: the rows of P = (I - omega D_F^-1 A_F) P0 (or P0 when not smooth), at most (row
+// length + 1) entries each, at row r's offset row_start[r] + r of `strided`; the counts go
+// to prolongator.row_start[r + 1].
+void strided_prolongator_rows(const CsrMatrix& a, const std::vector<char>& strong, const std::vector<int>& aggregate,
+                              const std::vector<double>& filtered_diagonal, bool smooth, double omega,
+                              CsrMatrix& strided, CsrMatrix& prolongator) {
+  const int rows = a.rows;
 #pragma omp parallel for schedule(static) if (rows >= kParallelRows)
   for (int r = 0; r < rows; ++r) {
     const std::size_t base = static_cast<std::size_t>(a.row_start[r]) + static_cast<std::size_t>(r);
@@ -330,7 +333,7 @@ void AmgPreconditioner::build_level(std::size_t level) {
       if (smooth) {
         const double factor = -omega / filtered_diagonal[r];
         for (int k = a.row_start[r]; k < a.row_start[r + 1]; ++k) {
-          if (!current.strong[k]) continue;
+          if (!strong[k]) continue;
           const int target = aggregate[a.column[k]];
           if (target < 0) continue;
           const double term = factor * a.value[k];
@@ -348,6 +351,11 @@ void AmgPreconditioner::build_level(std::size_t level) {
     }
     prolongator.row_start[static_cast<std::size_t>(r) + 1] = count;
   }
+}
+
+// Step 4: the strided rows compacted into the prolongator's compressed rows.
+void compact_prolongator(const CsrMatrix& a, const CsrMatrix& strided, CsrMatrix& prolongator) {
+  const int rows = a.rows;
   const std::size_t prolongator_nonzeros = prefix_sum_counts(prolongator.row_start);
   prolongator.column.resize(prolongator_nonzeros);
   prolongator.value.resize(prolongator_nonzeros);
@@ -360,6 +368,44 @@ void AmgPreconditioner::build_level(std::size_t level) {
     std::copy_n(strided.column.data() + base, count, prolongator.column.data() + begin);
     std::copy_n(strided.value.data() + base, count, prolongator.value.data() + begin);
   }
+}
+
+}  // namespace
+
+void AmgPreconditioner::build_level(std::size_t level) {
+  Level& current = levels_[level];
+  Level& next = levels_[level + 1];
+  const CsrMatrix& a = level_matrix(level);
+  const int rows = a.rows;
+
+  // 1. Strength of connection, the filtered diagonal and its Gershgorin bound.
+  const double theta = options_.strength_threshold * std::pow(0.5, static_cast<double>(level));
+  std::vector<double>& filtered_diagonal = current.residual;  // scratch until apply
+  const double filtered_bound =
+      mark_strong_connections(a, current.inverse_diagonal, theta, current.strong, filtered_diagonal);
+
+  // 2. Greedy aggregation.
+  const int coarse_rows = aggregate_rows(a, current.strong, current.aggregate, current.visit_order, current.visited);
+  if (coarse_rows == 0 || coarse_rows >= rows) {  // nothing to coarsen: this level is the coarsest
+    next.matrix.clear_rows(0);
+    return;
+  }
+
+  // 3-4. Prolongator P = (I - omega D_F^-1 A_F) P0 (or P0), built with at most (row length + 1)
+  // entries per row in a strided layout, then compacted.
+  CsrMatrix& prolongator = current.prolongator;
+  const bool smooth = options_.smooth_prolongator;
+  const double omega = smooth ? (4.0 / 3.0) / std::max(filtered_bound, 1.0) : 0.0;
+  const std::size_t stride_total = a.nonzeros() + static_cast<std::size_t>(rows);
+  // Scratch: the AP product's arrays are rebuilt below, so they hold the strided rows here.
+  CsrMatrix& strided = current.product;
+  strided.column.resize(stride_total);
+  strided.value.resize(stride_total);
+  prolongator.rows = rows;
+  prolongator.row_start.resize(static_cast<std::size_t>(rows) + 1);
+  strided_prolongator_rows(a, current.strong, current.aggregate, filtered_diagonal, smooth, omega, strided,
+                           prolongator);
+  compact_prolongator(a, strided, prolongator);
 
   // 5. R = P^T and the Galerkin product A_c = R (A P).
   transpose_sparse(prolongator, coarse_rows, current.restriction);

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <utility>
 
 namespace mps_lab {
 
@@ -42,8 +43,12 @@ inline double row_product(const double* value, const int* column, const double* 
   return even + odd;
 }
 
-// out = A x, returns x . out (both in one pass over the rows).
-double multiply_dot(const CsrMatrix& matrix, const double* x, double* out, std::vector<double>& partial) {
+// One pass over the rows of A x in fixed blocks: row_sum = (A x)_r is handed to
+// visit(r, row_sum), which stores what it needs and returns the row's term of a sum; the
+// terms are summed per block, the block sums in block order (the same bits for any thread
+// count). Returns that sum.
+template <typename Visit>
+double blocked_row_products(const CsrMatrix& matrix, const double* x, std::vector<double>& partial, Visit visit) {
   const int rows = matrix.rows;
   const int blocks = block_count(rows);
   const int* start = matrix.row_start.data();
@@ -54,36 +59,38 @@ double multiply_dot(const CsrMatrix& matrix, const double* x, double* out, std::
     const BlockRange range = block_range(b, rows);
     double sum = 0.0;
     for (int r = range.begin; r < range.end; ++r) {
-      const double row_sum = row_product(value, column, x, start[r], start[r + 1]);
-      out[r] = row_sum;
-      sum += x[r] * row_sum;
+      sum += visit(r, row_product(value, column, x, start[r], start[r + 1]));
     }
     partial[static_cast<std::size_t>(b)] = sum;
   }
   return sum_in_order(partial, blocks);
 }
 
+// out = A x, returns x . out (both in one pass over the rows).
+double multiply_dot(const CsrMatrix& matrix, const double* x, double* out, std::vector<double>& partial) {
+  return blocked_row_products(matrix, x, partial, [&](int r, double row_sum) {
+    out[r] = row_sum;
+    return x[r] * row_sum;
+  });
+}
+
+// out = A x, returns shadow . out.
+double multiply_dot_with(const CsrMatrix& matrix, const double* x, const double* shadow, double* out,
+                         std::vector<double>& partial) {
+  return blocked_row_products(matrix, x, partial, [&](int r, double row_sum) {
+    out[r] = row_sum;
+    return shadow[r] * row_sum;
+  });
+}
+
 // residual = rhs - A x, returns ||residual||^2.
 double residual_norm2(const CsrMatrix& matrix, const double* rhs, const double* x, double* residual,
                       std::vector<double>& partial) {
-  const int rows = matrix.rows;
-  const int blocks = block_count(rows);
-  const int* start = matrix.row_start.data();
-  const int* column = matrix.column.data();
-  const double* value = matrix.value.data();
-#pragma omp parallel for schedule(static)
-  for (int b = 0; b < blocks; ++b) {
-    const BlockRange range = block_range(b, rows);
-    double sum = 0.0;
-    for (int r = range.begin; r < range.end; ++r) {
-      const double row_sum = row_product(value, column, x, start[r], start[r + 1]);
-      const double difference = rhs[r] - row_sum;
-      residual[r] = difference;
-      sum += difference * difference;
-    }
-    partial[static_cast<std::size_t>(b)] = sum;
-  }
-  return sum_in_order(partial, blocks);
+  return blocked_row_products(matrix, x, partial, [&](int r, double row_sum) {
+    const double difference = rhs[r] - row_sum;
+    residual[r] = difference;
+    return difference * difference;
+  });
 }
 
 double blocked_dot(const double* a, const double* b, int rows, std::vector<double>& partial) {
@@ -128,6 +135,32 @@ void JacobiPreconditioner::apply(const double* residual, double* result) const {
 
 // --- block ILU(0) ----------------------------------------------------------------------------
 
+namespace {
+
+// The row starts of the block-local pattern of ILU(0): row r keeps the entries of A whose
+// column lies in r's own block (block_start[b] <= column < block_start[b + 1]), plus a
+// diagonal entry where A has none.
+void count_block_pattern(const CsrMatrix& matrix, const std::vector<int>& block_start, std::vector<int>& row_start) {
+  const int blocks = static_cast<int>(block_start.size()) - 1;
+  row_start.resize(static_cast<std::size_t>(matrix.rows) + 1);
+  row_start[0] = 0;
+  for (int b = 0; b < blocks; ++b) {
+    const int first = block_start[static_cast<std::size_t>(b)], last = block_start[static_cast<std::size_t>(b) + 1];
+    for (int r = first; r < last; ++r) {
+      int inside = 0;
+      bool has_diagonal = false;
+      for (int k = matrix.row_start[r]; k < matrix.row_start[r + 1]; ++k) {
+        const int c = matrix.column[k];
+        if (c >= first && c < last) ++inside;
+        has_diagonal = has_diagonal || c == r;
+      }
+      row_start[static_cast<std::size_t>(r) + 1] = row_start[static_cast<std::size_t>(r)] + inside + (has_diagonal ? 0 : 1);
+    }
+  }
+}
+
+}  // namespace
+
 void IncompleteLuPreconditioner::setup(const CsrMatrix& matrix) {
   rows_ = matrix.rows;
   const int blocks = std::min(block_count_, std::max(rows_, 1));
@@ -138,21 +171,7 @@ void IncompleteLuPreconditioner::setup(const CsrMatrix& matrix) {
   }
   // Pattern: the entries of A inside the row's own block, columns sorted. Counted per row first
   // so that the blocks can copy in parallel.
-  row_start_.resize(static_cast<std::size_t>(rows_) + 1);
-  row_start_[0] = 0;
-  for (int b = 0; b < blocks; ++b) {
-    const int first = block_start_[static_cast<std::size_t>(b)], last = block_start_[static_cast<std::size_t>(b) + 1];
-    for (int r = first; r < last; ++r) {
-      int inside = 0;
-      bool has_diagonal = false;
-      for (int k = matrix.row_start[r]; k < matrix.row_start[r + 1]; ++k) {
-        const int c = matrix.column[k];
-        if (c >= first && c < last) ++inside;
-        has_diagonal = has_diagonal || c == r;
-      }
-      row_start_[static_cast<std::size_t>(r) + 1] = row_start_[static_cast<std::size_t>(r)] + inside + (has_diagonal ? 0 : 1);
-    }
-  }
+  count_block_pattern(matrix, block_start_, row_start_);
   const auto entries = static_cast<std::size_t>(row_start_[static_cast<std::size_t>(rows_)]);
   column_.resize(entries);
   value_.resize(entries);
@@ -247,87 +266,109 @@ void IncompleteLuPreconditioner::apply(const double* residual, double* result) c
 
 // --- conjugate gradients -----------------------------------------------------------------------
 
+namespace {
+
+// b = 0: x = 0 and nothing to iterate (as Eigen).
+KrylovResult zero_solution(double* x, int rows) {
+  std::fill(x, x + rows, 0.0);
+  KrylovResult result;
+  result.converged = true;
+  return result;
+}
+
+// One CG update: x += alpha p, r -= alpha q, and with a Jacobi preconditioner (inverse_diagonal
+// not null) z = D^-1 r, in one pass. partial[b] = the block's ||r||^2 terms, partial[blocks + b]
+// its r.z terms (0 without Jacobi). Returns ||r||^2.
+double cg_update(double alpha, const double* p, const double* q, const double* inverse_diagonal, int rows,
+                 double* x, double* r, double* z, std::vector<double>& partial) {
+  const int blocks = block_count(rows);
+#pragma omp parallel for schedule(static)
+  for (int b = 0; b < blocks; ++b) {
+    const BlockRange range = block_range(b, rows);
+    double rr_sum = 0.0, rz_sum = 0.0;
+    if (inverse_diagonal != nullptr) {
+      for (int i = range.begin; i < range.end; ++i) {
+        x[i] += alpha * p[i];
+        const double ri = r[i] - alpha * q[i];
+        r[i] = ri;
+        rr_sum += ri * ri;
+        const double zi = inverse_diagonal[i] * ri;
+        z[i] = zi;
+        rz_sum += ri * zi;
+      }
+    } else {
+      for (int i = range.begin; i < range.end; ++i) {
+        x[i] += alpha * p[i];
+        const double ri = r[i] - alpha * q[i];
+        r[i] = ri;
+        rr_sum += ri * ri;
+      }
+    }
+    partial[static_cast<std::size_t>(b)] = rr_sum;
+    partial[static_cast<std::size_t>(blocks + b)] = rz_sum;
+  }
+  return sum_in_order(partial, blocks);
+}
+
+// The CG iterations from the residual r = b - A x held in the workspace (p = z = M^-1 r),
+// until the recurrence residual is below `threshold` or the iteration budget is spent.
+void cg_iterations(const CsrMatrix& matrix, double* x, const Preconditioner& preconditioner,
+                   const double* inverse_diagonal, double threshold, long long max_iterations, KrylovWorkspace& work,
+                   KrylovResult& result) {
+  const int rows = matrix.rows;
+  const int blocks = block_count(rows);
+  double* r = work.residual.data();
+  double* p = work.direction.data();
+  double* q = work.product.data();
+  double* z = work.preconditioned.data();
+  preconditioner.apply(r, z);
+  double rz = blocked_dot(r, z, rows, work.partial);
+  std::copy(z, z + rows, p);
+  while (result.iterations < max_iterations) {
+    const double pq = multiply_dot(matrix, p, q, work.partial);  // q = A p
+    const double alpha = rz / pq;
+    ++result.iterations;
+    const double recurrence_norm2 = cg_update(alpha, p, q, inverse_diagonal, rows, x, r, z, work.partial);
+    if (!(recurrence_norm2 >= threshold)) break;  // below the tolerance (or NaN: stop, reported below)
+    double rz_new = 0.0;
+    if (inverse_diagonal != nullptr) {
+      for (int b = 0; b < blocks; ++b) rz_new += work.partial[static_cast<std::size_t>(blocks + b)];
+    } else {
+      preconditioner.apply(r, z);
+      rz_new = blocked_dot(r, z, rows, work.partial);
+    }
+    const double beta = rz_new / rz;
+    rz = rz_new;
+#pragma omp parallel for schedule(static)
+    for (int i = 0; i < rows; ++i) p[i] = z[i] + beta * p[i];
+  }
+}
+
+}  // namespace
+
 KrylovResult conjugate_gradient(const CsrMatrix& matrix, const double* rhs, double* x,
                                 const Preconditioner& preconditioner, const KrylovSettings& settings,
                                 KrylovWorkspace& work) {
   KrylovResult result;
   const int rows = matrix.rows;
   const int blocks = block_count(rows);
-  ensure_size(work.residual, rows);
-  ensure_size(work.direction, rows);
-  ensure_size(work.product, rows);
-  ensure_size(work.preconditioned, rows);
+  for (auto* vector : {&work.residual, &work.direction, &work.product, &work.preconditioned}) ensure_size(*vector, rows);
   if (work.partial.size() < 2 * static_cast<std::size_t>(blocks)) work.partial.resize(2 * static_cast<std::size_t>(blocks));
-  double* r = work.residual.data();
-  double* p = work.direction.data();
-  double* q = work.product.data();
-  double* z = work.preconditioned.data();
 
   const double rhs_norm2 = blocked_dot(rhs, rhs, rows, work.partial);
-  if (rhs_norm2 == 0.0) {  // as Eigen: x = 0
-    std::fill(x, x + rows, 0.0);
-    result.converged = true;
-    return result;
-  }
+  if (rhs_norm2 == 0.0) return zero_solution(x, rows);
   // Stop when ||r||^2 < tol^2 ||b||^2 (Eigen's threshold, never below the smallest normal).
   const double threshold =
       std::max(settings.tolerance * settings.tolerance * rhs_norm2, std::numeric_limits<double>::min());
   const auto* jacobi = dynamic_cast<const JacobiPreconditioner*>(&preconditioner);
   const double* inverse_diagonal = jacobi != nullptr ? jacobi->inverse_diagonal().data() : nullptr;
 
-  double true_norm2 = residual_norm2(matrix, rhs, x, r, work.partial);
+  double true_norm2 = residual_norm2(matrix, rhs, x, work.residual.data(), work.partial);
   while (true_norm2 >= threshold && result.iterations < settings.max_iterations) {
-    // (Re)start from the true residual r = b - A x: p = z = M^-1 r.
-    preconditioner.apply(r, z);
-    double rz = blocked_dot(r, z, rows, work.partial);
-    std::copy(z, z + rows, p);
-    double recurrence_norm2 = true_norm2;
-    while (result.iterations < settings.max_iterations) {
-      const double pq = multiply_dot(matrix, p, q, work.partial);  // q = A p
-      const double alpha = rz / pq;
-      ++result.iterations;
-      // x += alpha p, r -= alpha q, ||r||^2, and for Jacobi z = D^-1 r and r.z, in one pass.
-#pragma omp parallel for schedule(static)
-      for (int b = 0; b < blocks; ++b) {
-        const BlockRange range = block_range(b, rows);
-        double rr_sum = 0.0, rz_sum = 0.0;
-        if (inverse_diagonal != nullptr) {
-          for (int i = range.begin; i < range.end; ++i) {
-            x[i] += alpha * p[i];
-            const double ri = r[i] - alpha * q[i];
-            r[i] = ri;
-            rr_sum += ri * ri;
-            const double zi = inverse_diagonal[i] * ri;
-            z[i] = zi;
-            rz_sum += ri * zi;
-          }
-        } else {
-          for (int i = range.begin; i < range.end; ++i) {
-            x[i] += alpha * p[i];
-            const double ri = r[i] - alpha * q[i];
-            r[i] = ri;
-            rr_sum += ri * ri;
-          }
-        }
-        work.partial[static_cast<std::size_t>(b)] = rr_sum;
-        work.partial[static_cast<std::size_t>(blocks + b)] = rz_sum;
-      }
-      recurrence_norm2 = sum_in_order(work.partial, blocks);
-      if (!(recurrence_norm2 >= threshold)) break;  // below the tolerance (or NaN: stop, reported below)
-      double rz_new = 0.0;
-      if (inverse_diagonal != nullptr) {
-        for (int b = 0; b < blocks; ++b) rz_new += work.partial[static_cast<std::size_t>(blocks + b)];
-      } else {
-        preconditioner.apply(r, z);
-        rz_new = blocked_dot(r, z, rows, work.partial);
-      }
-      const double beta = rz_new / rz;
-      rz = rz_new;
-#pragma omp parallel for schedule(static)
-      for (int i = 0; i < rows; ++i) p[i] = z[i] + beta * p[i];
-    }
+    // (Re)start from the true residual r = b - A x.
+    cg_iterations(matrix, x, preconditioner, inverse_diagonal, threshold, settings.max_iterations, work, result);
     // The recurrence residual can drift from b - A x: check the true one (and restart if needed).
-    true_norm2 = residual_norm2(matrix, rhs, x, r, work.partial);
+    true_norm2 = residual_norm2(matrix, rhs, x, work.residual.data(), work.partial);
     if (!std::isfinite(true_norm2)) break;
   }
   result.residual = std::sqrt(true_norm2 / rhs_norm2);
@@ -337,132 +378,143 @@ KrylovResult conjugate_gradient(const CsrMatrix& matrix, const double* rhs, doub
 
 // --- BiCGSTAB --------------------------------------------------------------------------------
 
+namespace {
+
+// The vectors of BiCGSTAB, in the workspace.
+struct BicgstabVectors {
+  double* r;   // residual
+  double* r0;  // shadow residual
+  double* p;
+  double* v;   // A y
+  double* s;
+  double* t;   // A z
+  double* y;   // M^-1 p
+  double* z;   // M^-1 s
+};
+
+BicgstabVectors bicgstab_vectors(KrylovWorkspace& work, int rows) {
+  for (auto* vector : {&work.residual, &work.shadow, &work.direction, &work.product, &work.s, &work.t, &work.y,
+                       &work.z}) {
+    ensure_size(*vector, rows);
+  }
+  return {work.residual.data(), work.shadow.data(), work.direction.data(), work.product.data(),
+          work.s.data(),        work.t.data(),      work.y.data(),         work.z.data()};
+}
+
+// t = A z, returns t.t and t.s (one pass).
+std::pair<double, double> multiply_two_dots(const CsrMatrix& matrix, const double* z, const double* s, double* t,
+                                            std::vector<double>& partial) {
+  const int rows = matrix.rows;
+  const int blocks = block_count(rows);
+  const int* start = matrix.row_start.data();
+  const int* column = matrix.column.data();
+  const double* value = matrix.value.data();
+#pragma omp parallel for schedule(static)
+  for (int b = 0; b < blocks; ++b) {
+    const BlockRange range = block_range(b, rows);
+    double tt = 0.0, ts = 0.0;
+    for (int i = range.begin; i < range.end; ++i) {
+      const double row_sum = row_product(value, column, z, start[i], start[i + 1]);
+      t[i] = row_sum;
+      tt += row_sum * row_sum;
+      ts += row_sum * s[i];
+    }
+    partial[static_cast<std::size_t>(b)] = tt;
+    partial[static_cast<std::size_t>(blocks + b)] = ts;
+  }
+  double tt = 0.0, ts = 0.0;
+  for (int b = 0; b < blocks; ++b) {
+    tt += partial[static_cast<std::size_t>(b)];
+    ts += partial[static_cast<std::size_t>(blocks + b)];
+  }
+  return {tt, ts};
+}
+
+// x += alpha y + omega z, r = s - omega t; returns ||r||^2 and r0 . r (one pass).
+std::pair<double, double> bicgstab_update(double alpha, double omega, const BicgstabVectors& vec, int rows, double* x,
+                                          std::vector<double>& partial) {
+  const int blocks = block_count(rows);
+#pragma omp parallel for schedule(static)
+  for (int b = 0; b < blocks; ++b) {
+    const BlockRange range = block_range(b, rows);
+    double rr = 0.0, r0r = 0.0;
+    for (int i = range.begin; i < range.end; ++i) {
+      x[i] += alpha * vec.y[i] + omega * vec.z[i];
+      const double ri = vec.s[i] - omega * vec.t[i];
+      vec.r[i] = ri;
+      rr += ri * ri;
+      r0r += vec.r0[i] * ri;
+    }
+    partial[static_cast<std::size_t>(b)] = rr;
+    partial[static_cast<std::size_t>(blocks + b)] = r0r;
+  }
+  double residual_norm2_now = 0.0, rho_new = 0.0;
+  for (int b = 0; b < blocks; ++b) {
+    residual_norm2_now += partial[static_cast<std::size_t>(b)];
+    rho_new += partial[static_cast<std::size_t>(blocks + b)];
+  }
+  return {residual_norm2_now, rho_new};
+}
+
+// One start of BiCGSTAB from the residual r = b - A x (norm2 = ||r||^2): shadow residual
+// r0 = r, p = r, iterations until ||r||^2 <= threshold or the budget is spent. Returns true
+// on a breakdown (r0 . v = 0, r nearly orthogonal to r0, or omega = 0): restart.
+bool bicgstab_start(const CsrMatrix& matrix, double* x, const Preconditioner& preconditioner, double norm2,
+                    double threshold, long long max_iterations, const BicgstabVectors& vec, KrylovWorkspace& work,
+                    KrylovResult& result) {
+  const int rows = matrix.rows;
+  const double eps2 = std::numeric_limits<double>::epsilon() * std::numeric_limits<double>::epsilon();
+  std::copy(vec.r, vec.r + rows, vec.r0);
+  std::copy(vec.r, vec.r + rows, vec.p);
+  double rho = norm2;  // r0 . r
+  const double r0_norm2 = norm2;
+  double residual_norm2_now = norm2;
+  while (residual_norm2_now > threshold && result.iterations < max_iterations) {
+    preconditioner.apply(vec.p, vec.y);
+    const double r0v = multiply_dot_with(matrix, vec.y, vec.r0, vec.v, work.partial);  // v = A y, r0 . v
+    if (r0v == 0.0 || !std::isfinite(r0v)) return true;
+    const double alpha = rho / r0v;
+#pragma omp parallel for schedule(static)
+    for (int i = 0; i < rows; ++i) vec.s[i] = vec.r[i] - alpha * vec.v[i];
+    preconditioner.apply(vec.s, vec.z);
+    const auto [tt, ts] = multiply_two_dots(matrix, vec.z, vec.s, vec.t, work.partial);  // t = A z
+    const double omega = tt > 0.0 ? ts / tt : 0.0;
+    const auto [rr, rho_new] = bicgstab_update(alpha, omega, vec, rows, x, work.partial);
+    ++result.iterations;
+    residual_norm2_now = rr;
+    if (!std::isfinite(residual_norm2_now)) return false;
+    if (!(residual_norm2_now > threshold)) return false;
+    // r became (nearly) orthogonal to r0, or omega = 0: restart with a fresh shadow residual.
+    if (std::fabs(rho_new) < eps2 * r0_norm2 || omega == 0.0) return true;
+    const double beta = (rho_new / rho) * (alpha / omega);
+    rho = rho_new;
+#pragma omp parallel for schedule(static)
+    for (int i = 0; i < rows; ++i) vec.p[i] = vec.r[i] + beta * (vec.p[i] - omega * vec.v[i]);
+  }
+  return false;
+}
+
+}  // namespace
+
 KrylovResult bicgstab(const CsrMatrix& matrix, const double* rhs, double* x, const Preconditioner& preconditioner,
                       const KrylovSettings& settings, KrylovWorkspace& work) {
   KrylovResult result;
   const int rows = matrix.rows;
   const int blocks = block_count(rows);
-  for (auto* vector : {&work.residual, &work.shadow, &work.direction, &work.product, &work.s, &work.t, &work.y,
-                       &work.z}) {
-    ensure_size(*vector, rows);
-  }
+  const BicgstabVectors vec = bicgstab_vectors(work, rows);
   if (work.partial.size() < 2 * static_cast<std::size_t>(blocks)) work.partial.resize(2 * static_cast<std::size_t>(blocks));
-  double* r = work.residual.data();
-  double* r0 = work.shadow.data();
-  double* p = work.direction.data();
-  double* v = work.product.data();
-  double* s = work.s.data();
-  double* t = work.t.data();
-  double* y = work.y.data();
-  double* z = work.z.data();
 
   const double rhs_norm2 = blocked_dot(rhs, rhs, rows, work.partial);
-  if (rhs_norm2 == 0.0) {
-    std::fill(x, x + rows, 0.0);
-    result.converged = true;
-    return result;
-  }
+  if (rhs_norm2 == 0.0) return zero_solution(x, rows);
   // Continue while ||r||^2 > tol^2 ||b||^2 (Eigen's BiCGSTAB rule).
   const double threshold = settings.tolerance * settings.tolerance * rhs_norm2;
-  const double eps2 = std::numeric_limits<double>::epsilon() * std::numeric_limits<double>::epsilon();
 
-  double true_norm2 = residual_norm2(matrix, rhs, x, r, work.partial);
+  double true_norm2 = residual_norm2(matrix, rhs, x, vec.r, work.partial);
   while (true_norm2 > threshold && result.iterations < settings.max_iterations) {
-    // (Re)start: shadow residual r0 = r, p = r.
     const long long iterations_at_start = result.iterations;
-    std::copy(r, r + rows, r0);
-    std::copy(r, r + rows, p);
-    double rho = true_norm2;  // r0 . r
-    const double r0_norm2 = true_norm2;
-    double residual_norm2_now = true_norm2;
-    bool breakdown = false;
-    while (residual_norm2_now > threshold && result.iterations < settings.max_iterations) {
-      preconditioner.apply(p, y);
-      const double r0v = [&] {  // v = A y, r0 . v
-        const int* start = matrix.row_start.data();
-        const int* column = matrix.column.data();
-        const double* value = matrix.value.data();
-#pragma omp parallel for schedule(static)
-        for (int b = 0; b < blocks; ++b) {
-          const BlockRange range = block_range(b, rows);
-          double sum = 0.0;
-          for (int i = range.begin; i < range.end; ++i) {
-            const double row_sum = row_product(value, column, y, start[i], start[i + 1]);
-            v[i] = row_sum;
-            sum += r0[i] * row_sum;
-          }
-          work.partial[static_cast<std::size_t>(b)] = sum;
-        }
-        return sum_in_order(work.partial, blocks);
-      }();
-      if (r0v == 0.0 || !std::isfinite(r0v)) {
-        breakdown = true;
-        break;
-      }
-      const double alpha = rho / r0v;
-#pragma omp parallel for schedule(static)
-      for (int i = 0; i < rows; ++i) s[i] = r[i] - alpha * v[i];
-      preconditioner.apply(s, z);
-      // t = A z, with t.t and t.s in the same pass.
-      {
-        const int* start = matrix.row_start.data();
-        const int* column = matrix.column.data();
-        const double* value = matrix.value.data();
-#pragma omp parallel for schedule(static)
-        for (int b = 0; b < blocks; ++b) {
-          const BlockRange range = block_range(b, rows);
-          double tt = 0.0, ts = 0.0;
-          for (int i = range.begin; i < range.end; ++i) {
-            const double row_sum = row_product(value, column, z, start[i], start[i + 1]);
-            t[i] = row_sum;
-            tt += row_sum * row_sum;
-            ts += row_sum * s[i];
-          }
-          work.partial[static_cast<std::size_t>(b)] = tt;
-          work.partial[static_cast<std::size_t>(blocks + b)] = ts;
-        }
-      }
-      double tt = 0.0, ts = 0.0;
-      for (int b = 0; b < blocks; ++b) {
-        tt += work.partial[static_cast<std::size_t>(b)];
-        ts += work.partial[static_cast<std::size_t>(blocks + b)];
-      }
-      const double omega = tt > 0.0 ? ts / tt : 0.0;
-      // x += alpha y + omega z, r = s - omega t, ||r||^2 and r0 . r in one pass.
-#pragma omp parallel for schedule(static)
-      for (int b = 0; b < blocks; ++b) {
-        const BlockRange range = block_range(b, rows);
-        double rr = 0.0, r0r = 0.0;
-        for (int i = range.begin; i < range.end; ++i) {
-          x[i] += alpha * y[i] + omega * z[i];
-          const double ri = s[i] - omega * t[i];
-          r[i] = ri;
-          rr += ri * ri;
-          r0r += r0[i] * ri;
-        }
-        work.partial[static_cast<std::size_t>(b)] = rr;
-        work.partial[static_cast<std::size_t>(blocks + b)] = r0r;
-      }
-      ++result.iterations;
-      residual_norm2_now = 0.0;
-      double rho_new = 0.0;
-      for (int b = 0; b < blocks; ++b) {
-        residual_norm2_now += work.partial[static_cast<std::size_t>(b)];
-        rho_new += work.partial[static_cast<std::size_t>(blocks + b)];
-      }
-      if (!std::isfinite(residual_norm2_now)) break;
-      if (!(residual_norm2_now > threshold)) break;
-      // r became (nearly) orthogonal to r0, or omega = 0: restart with a fresh shadow residual.
-      if (std::fabs(rho_new) < eps2 * r0_norm2 || omega == 0.0) {
-        breakdown = true;
-        break;
-      }
-      const double beta = (rho_new / rho) * (alpha / omega);
-      rho = rho_new;
-#pragma omp parallel for schedule(static)
-      for (int i = 0; i < rows; ++i) p[i] = r[i] + beta * (p[i] - omega * v[i]);
-    }
-    true_norm2 = residual_norm2(matrix, rhs, x, r, work.partial);
+    const bool breakdown = bicgstab_start(matrix, x, preconditioner, true_norm2, threshold, settings.max_iterations,
+                                          vec, work, result);
+    true_norm2 = residual_norm2(matrix, rhs, x, vec.r, work.partial);
     if (!std::isfinite(true_norm2)) break;
     // A breakdown before any step of this start cannot be cured by restarting again.
     if (breakdown && result.iterations == iterations_at_start) break;

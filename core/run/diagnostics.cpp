@@ -7,6 +7,7 @@
 
 #include "core/search/neighbour_search.hpp"
 #include "core/kernels/sph_kernels.hpp"
+#include "core/search/for_each_neighbour.hpp"
 
 namespace mps_lab {
 
@@ -32,13 +33,12 @@ std::size_t label_bodies(const ParticleSet& particles, const NeighbourList& link
       const std::uint32_t i = stack.back();
       stack.pop_back();
       ++sizes.back();
-      for (std::uint32_t k = links.begin(i); k < links.end(i); ++k) {
-        const std::uint32_t j = links.indices[k];
-        if (label[j] >= 0 || particles.type[j] != ParticleType::Fluid) continue;
-        if ((particles.position[j] - particles.position[i]).squaredNorm() >= link2) continue;
+      for_each_neighbour(links, i, [&](std::uint32_t j) {
+        if (label[j] >= 0 || particles.type[j] != ParticleType::Fluid) return;
+        if ((particles.position[j] - particles.position[i]).squaredNorm() >= link2) return;
         label[j] = component;
         stack.push_back(j);
-      }
+      });
     }
   }
   largest = sizes.empty() ? -1
@@ -52,9 +52,7 @@ double relative_density(const ParticleSet& particles, std::size_t i, const Neigh
                         const SphKernel& kernel, double lattice_sum) {
   const Vec2& x = particles.position[i];
   double sum = kernel.value(0.0);
-  for (std::uint32_t k = neighbours.begin(i); k < neighbours.end(i); ++k) {
-    sum += kernel.value((particles.position[neighbours.indices[k]] - x).norm());
-  }
+  for_each_neighbour(neighbours, i, [&](std::uint32_t j) { sum += kernel.value((particles.position[j] - x).norm()); });
   return sum / lattice_sum;
 }
 

@@ -265,321 +265,454 @@ Scene resumed_scene(const std::filesystem::path& directory, const nlohmann::json
   return parse_scene(std::move(document), source, methods, walls);
 }
 
-}  // namespace
+// What a run is: the scene (loaded, or a resumed run's with its new overrides), the overrides
+// run.json records, the method, and the run.json of the run it resumes.
+struct RunSetup {
+  bool resuming = false;
+  nlohmann::json previous;  // the resumed run's run.json
+  Scene scene;
+  std::vector<std::string> overrides;
+  const MethodInfo* info = nullptr;
+};
 
-RunResult run_simulation(const RunOptions& options, const MethodRegistry& methods,
-                         const WallTreatmentRegistry& walls) {
-  const auto started = Clock::now();
-  const bool resuming = !options.resume_directory.empty();
-  // This invocation's command-line options become --set assignments, so that run.json's
-  // scene_resolved holds them and a resumed run runs the same scene.
-  std::vector<std::string> new_overrides = resuming ? std::vector<std::string>() : options.overrides;
-  if (options.end_time) new_overrides.push_back("time.end_time=" + format_double(*options.end_time));
+// This invocation's command-line options as --set assignments, so that run.json's
+// scene_resolved holds them and a resumed run runs the same scene.
+std::vector<std::string> invocation_overrides(const RunOptions& options, bool resuming) {
+  std::vector<std::string> overrides = resuming ? std::vector<std::string>() : options.overrides;
+  if (options.end_time) overrides.push_back("time.end_time=" + format_double(*options.end_time));
   if (options.checkpoint_every_steps) {
-    new_overrides.push_back("output.checkpoint_every_steps=" + std::to_string(*options.checkpoint_every_steps));
+    overrides.push_back("output.checkpoint_every_steps=" + std::to_string(*options.checkpoint_every_steps));
   }
-  const nlohmann::json previous =  // the resumed run's run.json
-      resuming ? read_resumable_summary(options.resume_directory, options.end_time) : nlohmann::json();
-  const Scene scene = resuming ? resumed_scene(options.resume_directory, previous, new_overrides, methods, walls)
-                               : load_scene(options.scene_path, new_overrides, methods, walls);
-  std::vector<std::string> overrides = resuming ? previous.value("overrides", std::vector<std::string>()) : new_overrides;
-  if (resuming) overrides.insert(overrides.end(), new_overrides.begin(), new_overrides.end());
-  const std::string method_name = resuming               ? previous["method"].get<std::string>()
-                                  : options.method.empty() ? scene.method
-                                                           : options.method;
-  const MethodInfo* info = methods.find(method_name);
+  return overrides;
+}
+
+// The registered method called `name` (InputError listing the registered ones otherwise).
+const MethodInfo& find_method(const MethodRegistry& methods, const std::string& name) {
+  const MethodInfo* info = methods.find(name);
   if (info == nullptr) {
     std::string known;
-    for (const auto& name : methods.names()) known += (known.empty() ? "" : ", ") + name;
-    throw_input_error("--method", method_name, "unknown method (registered: " + known + ")");
+    for (const auto& registered : methods.names()) known += (known.empty() ? "" : ", ") + registered;
+    throw_input_error("--method", name, "unknown method (registered: " + known + ")");
   }
+  return *info;
+}
 
-  RunResult result;
-  result.directory = resuming                           ? options.resume_directory
-                     : options.output_directory.empty() ? std::filesystem::path(scene.output.directory)
-                                                        : std::filesystem::path(options.output_directory);
-  const auto columns = series_columns(*info, scene);
-  RunOutput output(result.directory, {scene.output.csv, scene.output.vtk, scene.output.vtu}, columns);
-  if (!resuming) output.prepare();
+RunSetup resolve_run(const RunOptions& options, const MethodRegistry& methods, const WallTreatmentRegistry& walls) {
+  RunSetup setup;
+  setup.resuming = !options.resume_directory.empty();
+  const std::vector<std::string> new_overrides = invocation_overrides(options, setup.resuming);
+  if (setup.resuming) setup.previous = read_resumable_summary(options.resume_directory, options.end_time);
+  setup.scene = setup.resuming ? resumed_scene(options.resume_directory, setup.previous, new_overrides, methods, walls)
+                               : load_scene(options.scene_path, new_overrides, methods, walls);
+  setup.overrides = setup.resuming ? setup.previous.value("overrides", std::vector<std::string>()) : new_overrides;
+  if (setup.resuming) setup.overrides.insert(setup.overrides.end(), new_overrides.begin(), new_overrides.end());
+  const std::string method_name = setup.resuming          ? setup.previous["method"].get<std::string>()
+                                  : options.method.empty() ? setup.scene.method
+                                                           : options.method;
+  setup.info = &find_method(methods, method_name);
+  return setup;
+}
 
-  Simulation simulation(scene, *info);
-  FlowWorkspace flow_workspace;  // the measures' search storage, reused by every series row
-  const FlowMeasures initial = measure_flow(simulation.particles(), scene, flow_workspace);
+std::filesystem::path run_directory(const RunOptions& options, const RunSetup& setup) {
+  if (setup.resuming) return options.resume_directory;
+  return options.output_directory.empty() ? std::filesystem::path(setup.scene.output.directory)
+                                          : std::filesystem::path(options.output_directory);
+}
 
-  // The driver's own state between steps: when the next frame and series row are due by
-  // simulated time, and the wall time of the run's earlier sessions.
-  double next_frame_time = scene.output.frame_interval;
-  double next_series_time = scene.output.series_interval;
-  double earlier_wall_seconds = 0.0;
-  if (resuming) {
-    const auto checkpoint_path = result.directory / "checkpoint.bin";
-    if (!std::filesystem::exists(checkpoint_path)) {
-      throw_input_error(checkpoint_path.string(), "",
-                        "no checkpoint to resume from (a run writes one with --checkpoint-every N, and when stopped "
-                        "by Ctrl-C or SIGTERM)");
-    }
-    CheckpointReader checkpoint = CheckpointReader::from_file(checkpoint_path, git_revision());
-    simulation.restore_checkpoint(checkpoint);
-    checkpoint.begin_section("run");
-    next_frame_time = checkpoint.read_double();
-    next_series_time = checkpoint.read_double();
-    earlier_wall_seconds = checkpoint.read_double();
-    checkpoint.end_section();
-    checkpoint.begin_section("output");
-    output.restore_state(checkpoint);
-    checkpoint.end_section();
-    if (scene.time.end_time < simulation.time()) {
-      throw_input_error("--end-time", format_double(scene.time.end_time),
-                        "expected at least the checkpoint's time " + format_double(simulation.time()) + " s (" +
-                            checkpoint_path.string() + ")");
-    }
-    output.prepare_resume();
-  }
-  const auto wall_seconds = [&] { return earlier_wall_seconds + seconds_since(started); };
-
+// The run.json entries of a run's invariants: scene, parameters, wall treatments, shared
+// physics, the initial particles and column.
+nlohmann::json new_run_summary(const RunOptions& options, const RunSetup& setup, const FlowMeasures& initial,
+                               std::size_t particles) {
+  const Scene& scene = setup.scene;
+  const MethodInfo& info = *setup.info;
   nlohmann::json summary;
-  if (resuming) {
-    summary = previous;
-    summary.erase("message");
-    summary["overrides"] = overrides;
-    summary["scene_resolved"] = scene.document;
-    summary["shared"]["end_time"] = scene.time.end_time;
-    summary["threads"] = omp_get_max_threads();
-    if (!summary["notes"].is_array()) summary["notes"] = nlohmann::json::array();
-    if (previous.value("threads", 0) != omp_get_max_threads()) {
-      const std::string note = "resumed with " + std::to_string(omp_get_max_threads()) + " threads, run before with " +
-                               previous.value("threads", nlohmann::json()).dump() +
-                               ": bit-for-bit continuation is guaranteed for the same thread count";
-      summary["notes"].push_back(note);
-      if (options.progress) std::fprintf(stderr, "mps_lab: note: %s\n", note.c_str());
-    }
-    summary["resumed"].push_back({{"from_step", simulation.steps()},
-                                  {"from_time", simulation.time()},
-                                  {"previous_status", previous["status"]},
-                                  {"at", utc_timestamp()},
-                                  {"end_time", scene.time.end_time},
-                                  {"threads", omp_get_max_threads()}});
-  } else {
-    summary["program"] = "mps_lab";
-    summary["git_revision"] = git_revision();
-    summary["started_at"] = utc_timestamp();
-    summary["method"] = info->name;
-    summary["method_description"] = info->description;
-    summary["scene"] = options.scene_path;
-    summary["overrides"] = overrides;
-    summary["scene_resolved"] = scene.document;
-    summary["parameters"] = scene.method_config(info->name).parameters.to_json();
-    nlohmann::json wall_summary = nlohmann::json::object();
-    for (const auto& choice : scene.method_config(info->name).wall_treatments) {
-      wall_summary[choice.info->name] = choice.parameters.to_json();
-    }
-    summary["wall_treatments"] = wall_summary;
-    summary["shared"] = {
-        {"particle_spacing", scene.particle_spacing},
-        {"density", scene.physics.density},
-        {"kinematic_viscosity", scene.physics.kinematic_viscosity},
-        {"gravity", {scene.physics.gravity.x(), scene.physics.gravity.y()}},
-        {"time_step", scene.time.time_step},
-        {"end_time", scene.time.end_time},
-        {"frame_every_steps", scene.output.frame_every_steps},
-        {"series_every_steps", scene.output.series_every_steps},
-        {"front_link_distance", scene.diagnostics.front_link_distance},
-        {"height_probe_width", scene.diagnostics.height_probe_width}};
-    summary["particles"] = {{"fluid", initial.fluid}, {"wall", initial.wall}, {"total", simulation.particles().size()}};
-    summary["column"] = {{"width", initial.front}, {"height", initial.height}};
-    summary["threads"] = omp_get_max_threads();
-    // Spec §3 note: the original code had static arrays of 10000 particles; this core has no
-    // limit, but says so when a scene goes beyond what the validation runs covered.
-    summary["notes"] = nlohmann::json::array();
-    if (simulation.particles().size() > kTestedParticles) {
-      const std::string note = std::to_string(simulation.particles().size()) +
-                               " particles: beyond the 10000 of the specification's original code (spec §3) and the "
-                               "validated runs of this testbed (at most 6000); no limit applies, but check the results";
-      summary["notes"].push_back(note);
-      if (options.progress) std::fprintf(stderr, "mps_lab: note: %s\n", note.c_str());
-    }
+  summary["program"] = "mps_lab";
+  summary["git_revision"] = git_revision();
+  summary["started_at"] = utc_timestamp();
+  summary["method"] = info.name;
+  summary["method_description"] = info.description;
+  summary["scene"] = options.scene_path;
+  summary["overrides"] = setup.overrides;
+  summary["scene_resolved"] = scene.document;
+  summary["parameters"] = scene.method_config(info.name).parameters.to_json();
+  nlohmann::json wall_summary = nlohmann::json::object();
+  for (const auto& choice : scene.method_config(info.name).wall_treatments) {
+    wall_summary[choice.info->name] = choice.parameters.to_json();
   }
-  summary["shared"]["checkpoint_every_steps"] = scene.output.checkpoint_every_steps;
-  summary["status"] = "running";
-  output.write_summary(summary);
+  summary["wall_treatments"] = wall_summary;
+  summary["shared"] = {
+      {"particle_spacing", scene.particle_spacing},
+      {"density", scene.physics.density},
+      {"kinematic_viscosity", scene.physics.kinematic_viscosity},
+      {"gravity", {scene.physics.gravity.x(), scene.physics.gravity.y()}},
+      {"time_step", scene.time.time_step},
+      {"end_time", scene.time.end_time},
+      {"frame_every_steps", scene.output.frame_every_steps},
+      {"series_every_steps", scene.output.series_every_steps},
+      {"front_link_distance", scene.diagnostics.front_link_distance},
+      {"height_probe_width", scene.diagnostics.height_probe_width}};
+  summary["particles"] = {{"fluid", initial.fluid}, {"wall", initial.wall}, {"total", particles}};
+  summary["column"] = {{"width", initial.front}, {"height", initial.height}};
+  summary["threads"] = omp_get_max_threads();
+  // Spec §3 note: the original code had static arrays of 10000 particles; this core has no
+  // limit, but says so when a scene goes beyond what the validation runs covered.
+  summary["notes"] = nlohmann::json::array();
+  if (particles > kTestedParticles) {
+    const std::string note = std::to_string(particles) +
+                             " particles: beyond the 10000 of the specification's original code (spec §3) and the "
+                             "validated runs of this testbed (at most 6000); no limit applies, but check the results";
+    summary["notes"].push_back(note);
+    if (options.progress) std::fprintf(stderr, "mps_lab: note: %s\n", note.c_str());
+  }
+  return summary;
+}
 
-  PhaseTimers& timers = simulation.timers();
-  const PhaseTimers::Id output_phase = timers.phase("output");
-  const PhaseTimers::Id diagnostics_phase = timers.phase("diagnostics");
-  const auto record = [&](bool frame) {
-    const FlowMeasures measures = [&] {
-      const auto timed = timers.measure(diagnostics_phase);
-      return measure_flow(simulation.particles(), scene, flow_workspace);
-    }();
-    const auto timed = timers.measure(output_phase);
-    const StepReport& report = simulation.last_report();
-    std::vector<double> row = {static_cast<double>(simulation.steps()),
-                               simulation.time(),
-                               simulation.last_time_step(),
-                               measures.front,
-                               measures.front_max_x,
-                               measures.height,
-                               measures.kinetic_energy,
-                               measures.max_speed,
-                               measures.density_error,
-                               static_cast<double>(measures.fluid),
-                               static_cast<double>(measures.ghost),
-                               static_cast<double>(report.solver_iterations),
-                               report.solver_residual,
-                               wall_seconds(),
-                               simulation.monitor().state().last_courant,
-                               simulation.monitor().state().last_energy,
-                               static_cast<double>(simulation.monitor().state().events_total)};
-    row.insert(row.end(), measures.sensor_pressure.begin(), measures.sensor_pressure.end());
-    if (simulation.steps() == 0) {
-      row.resize(row.size() + info->series_columns.size(), 0.0);
-    } else {
-      row.insert(row.end(), report.extra.begin(), report.extra.end());
-    }
-    output.add_series_row(row);
-    output.write_series();
-    if (frame) output.write_frame(simulation.particles(), info->fields, simulation.time(), simulation.steps(), "mps_lab " + info->name);
-  };
+// The resumed run's run.json with this session's scene, threads and a "resumed" entry.
+nlohmann::json resumed_run_summary(const RunOptions& options, const RunSetup& setup, const Simulation& simulation) {
+  const nlohmann::json& previous = setup.previous;
+  nlohmann::json summary = previous;
+  summary.erase("message");
+  summary["overrides"] = setup.overrides;
+  summary["scene_resolved"] = setup.scene.document;
+  summary["shared"]["end_time"] = setup.scene.time.end_time;
+  summary["threads"] = omp_get_max_threads();
+  if (!summary["notes"].is_array()) summary["notes"] = nlohmann::json::array();
+  if (previous.value("threads", 0) != omp_get_max_threads()) {
+    const std::string note = "resumed with " + std::to_string(omp_get_max_threads()) + " threads, run before with " +
+                             previous.value("threads", nlohmann::json()).dump() +
+                             ": bit-for-bit continuation is guaranteed for the same thread count";
+    summary["notes"].push_back(note);
+    if (options.progress) std::fprintf(stderr, "mps_lab: note: %s\n", note.c_str());
+  }
+  summary["resumed"].push_back({{"from_step", simulation.steps()},
+                                {"from_time", simulation.time()},
+                                {"previous_status", previous["status"]},
+                                {"at", utc_timestamp()},
+                                {"end_time", setup.scene.time.end_time},
+                                {"threads", omp_get_max_threads()}});
+  return summary;
+}
 
-  // Output by step count (the spec's rule) and, when the scene asks, by simulated time, so
-  // that methods with adaptive steps are sampled at the same times as the others.
-  const auto crossed = [&](double interval, double& next) {
-    if (interval <= 0.0) return false;
-    if (simulation.time() < next - 1e-6 * simulation.last_time_step()) return false;
-    while (next <= simulation.time() + 1e-6 * simulation.last_time_step()) next += interval;
-    return true;
-  };
+// One run (or one session of a resumed run): the simulation, its output and the driver's
+// bookkeeping between steps (when the next frame and series row are due by simulated time,
+// the wall time of earlier sessions, the last checkpoint).
+class RunSession {
+ public:
+  RunSession(const RunOptions& options, const RunSetup& setup, std::filesystem::path directory,
+             Clock::time_point started)
+      : options_(options),
+        setup_(setup),
+        scene_(setup.scene),
+        info_(*setup.info),
+        started_(started),
+        directory_(std::move(directory)),
+        output_(directory_, {scene_.output.csv, scene_.output.vtk, scene_.output.vtu}, series_columns(info_, scene_)),
+        output_prepared_(setup.resuming ? false : (output_.prepare(), true)),  // before the particles are built
+        simulation_(scene_, info_),
+        initial_(measure_flow(simulation_.particles(), scene_, flow_workspace_)),
+        next_frame_time_(scene_.output.frame_interval),
+        next_series_time_(scene_.output.series_interval),
+        timers_(simulation_.timers()),
+        output_phase_(timers_.phase("output")),
+        diagnostics_phase_(timers_.phase("diagnostics")) {}
 
-  // checkpoint.bin: the simulation's sections, then the driver's ("run") and the output's
-  // bookkeeping; run.json then says where the run stands.
-  long long checkpoint_step = resuming ? simulation.steps() : -1;
-  const auto write_checkpoint = [&] {
-    const auto timed = timers.measure(output_phase);
-    CheckpointWriter checkpoint;
-    simulation.save_checkpoint(checkpoint);
-    checkpoint.begin_section("run");
-    checkpoint.write_double(next_frame_time);
-    checkpoint.write_double(next_series_time);
-    checkpoint.write_double(wall_seconds());
-    checkpoint.end_section();
-    checkpoint.begin_section("output");
-    output.save_state(checkpoint);
-    checkpoint.end_section();
-    write_file_atomically(result.directory / "checkpoint.bin", checkpoint.file_content(git_revision()));
-    checkpoint_step = simulation.steps();
-    summary["checkpoint"] = {{"file", "checkpoint.bin"}, {"step", simulation.steps()}, {"time", simulation.time()}};
-    summary["steps"] = simulation.steps();
-    summary["simulated_time"] = simulation.time();
-    output.write_summary(summary);
-  };
-  const long long checkpoint_every = scene.output.checkpoint_every_steps;
+  RunResult run();
 
-  const bool show_progress = options.progress && ::isatty(STDERR_FILENO) != 0;
-  const double end_time = scene.time.end_time;
-  const long long first_step = simulation.steps();
-  const double first_time = simulation.time();
-  auto last_progress = Clock::now();
-  if (!resuming) record(true);
-  result.status = "completed";
+ private:
+  double wall_seconds() const { return earlier_wall_seconds_ + seconds_since(started_); }
+  void restore_checkpoint();
+  void write_starting_summary();
+  std::vector<double> series_row(const FlowMeasures& measures) const;
+  void record(bool frame);
+  template <typename Dropped>
+  void record_post_mortem();
+  bool crossed(double interval, double& next) const;
+  void write_checkpoint();
+  std::string advance_to_end();
+  void show_progress(long long step);
+  void finish(const std::string& stop_reason, RunResult& result);
+  void write_final_summary(const RunResult& result);
+
+  const RunOptions& options_;
+  const RunSetup& setup_;
+  const Scene& scene_;
+  const MethodInfo& info_;
+  const Clock::time_point started_;
+  const std::filesystem::path directory_;
+  RunOutput output_;
+  const bool output_prepared_;
+  Simulation simulation_;
+  FlowWorkspace flow_workspace_;  // the measures' search storage, reused by every series row
+  const FlowMeasures initial_;
+  double next_frame_time_;
+  double next_series_time_;
+  double earlier_wall_seconds_ = 0.0;
+  PhaseTimers& timers_;
+  const PhaseTimers::Id output_phase_;
+  const PhaseTimers::Id diagnostics_phase_;
+  nlohmann::json summary_;
+  long long checkpoint_step_ = -1;
+  long long first_step_ = 0;
+  double first_time_ = 0.0;
+  bool show_progress_ = false;
+  Clock::time_point last_progress_;
+};
+
+// checkpoint.bin of the run folder: the simulation's sections, the driver's ("run") and the
+// output's bookkeeping; InputError when it is missing or ends before the new end time.
+void RunSession::restore_checkpoint() {
+  const auto checkpoint_path = directory_ / "checkpoint.bin";
+  if (!std::filesystem::exists(checkpoint_path)) {
+    throw_input_error(checkpoint_path.string(), "",
+                      "no checkpoint to resume from (a run writes one with --checkpoint-every N, and when stopped "
+                      "by Ctrl-C or SIGTERM)");
+  }
+  CheckpointReader checkpoint = CheckpointReader::from_file(checkpoint_path, git_revision());
+  simulation_.restore_checkpoint(checkpoint);
+  checkpoint.begin_section("run");
+  next_frame_time_ = checkpoint.read_double();
+  next_series_time_ = checkpoint.read_double();
+  earlier_wall_seconds_ = checkpoint.read_double();
+  checkpoint.end_section();
+  checkpoint.begin_section("output");
+  output_.restore_state(checkpoint);
+  checkpoint.end_section();
+  if (scene_.time.end_time < simulation_.time()) {
+    throw_input_error("--end-time", format_double(scene_.time.end_time),
+                      "expected at least the checkpoint's time " + format_double(simulation_.time()) + " s (" +
+                          checkpoint_path.string() + ")");
+  }
+  output_.prepare_resume();
+}
+
+void RunSession::write_starting_summary() {
+  summary_ = setup_.resuming ? resumed_run_summary(options_, setup_, simulation_)
+                             : new_run_summary(options_, setup_, initial_, simulation_.particles().size());
+  summary_["shared"]["checkpoint_every_steps"] = scene_.output.checkpoint_every_steps;
+  summary_["status"] = "running";
+  output_.write_summary(summary_);
+}
+
+// A row of series.csv (series_columns): the step, the flow measures, the solver and the
+// monitor, the sensors, then the method's columns (zeros before the first step).
+std::vector<double> RunSession::series_row(const FlowMeasures& measures) const {
+  const StepReport& report = simulation_.last_report();
+  std::vector<double> row = {static_cast<double>(simulation_.steps()),
+                             simulation_.time(),
+                             simulation_.last_time_step(),
+                             measures.front,
+                             measures.front_max_x,
+                             measures.height,
+                             measures.kinetic_energy,
+                             measures.max_speed,
+                             measures.density_error,
+                             static_cast<double>(measures.fluid),
+                             static_cast<double>(measures.ghost),
+                             static_cast<double>(report.solver_iterations),
+                             report.solver_residual,
+                             wall_seconds(),
+                             simulation_.monitor().state().last_courant,
+                             simulation_.monitor().state().last_energy,
+                             static_cast<double>(simulation_.monitor().state().events_total)};
+  row.insert(row.end(), measures.sensor_pressure.begin(), measures.sensor_pressure.end());
+  if (simulation_.steps() == 0) {
+    row.resize(row.size() + info_.series_columns.size(), 0.0);
+  } else {
+    row.insert(row.end(), report.extra.begin(), report.extra.end());
+  }
+  return row;
+}
+
+// A series row, and a frame when asked.
+void RunSession::record(bool frame) {
+  const FlowMeasures measures = [&] {
+    const auto timed = timers_.measure(diagnostics_phase_);
+    return measure_flow(simulation_.particles(), scene_, flow_workspace_);
+  }();
+  const auto timed = timers_.measure(output_phase_);
+  output_.add_series_row(series_row(measures));
+  output_.write_series();
+  if (frame) {
+    output_.write_frame(simulation_.particles(), info_.fields, simulation_.time(), simulation_.steps(),
+                        "mps_lab " + info_.name);
+  }
+}
+
+// Output by step count (the spec's rule) and, when the scene asks, by simulated time, so
+// that methods with adaptive steps are sampled at the same times as the others.
+bool RunSession::crossed(double interval, double& next) const {
+  if (interval <= 0.0) return false;
+  if (simulation_.time() < next - 1e-6 * simulation_.last_time_step()) return false;
+  while (next <= simulation_.time() + 1e-6 * simulation_.last_time_step()) next += interval;
+  return true;
+}
+
+// checkpoint.bin: the simulation's sections, then the driver's ("run") and the output's
+// bookkeeping; run.json then says where the run stands.
+void RunSession::write_checkpoint() {
+  const auto timed = timers_.measure(output_phase_);
+  CheckpointWriter checkpoint;
+  simulation_.save_checkpoint(checkpoint);
+  checkpoint.begin_section("run");
+  checkpoint.write_double(next_frame_time_);
+  checkpoint.write_double(next_series_time_);
+  checkpoint.write_double(wall_seconds());
+  checkpoint.end_section();
+  checkpoint.begin_section("output");
+  output_.save_state(checkpoint);
+  checkpoint.end_section();
+  write_file_atomically(directory_ / "checkpoint.bin", checkpoint.file_content(git_revision()));
+  checkpoint_step_ = simulation_.steps();
+  summary_["checkpoint"] = {{"file", "checkpoint.bin"}, {"step", simulation_.steps()}, {"time", simulation_.time()}};
+  summary_["steps"] = simulation_.steps();
+  summary_["simulated_time"] = simulation_.time();
+  output_.write_summary(summary_);
+}
+
+void RunSession::show_progress(long long step) {
+  if (!show_progress_ || seconds_since(last_progress_) <= 0.5) return;
+  last_progress_ = Clock::now();
+  const double end_time = scene_.time.end_time;
+  const double elapsed = seconds_since(started_);
+  const double rate = static_cast<double>(step - first_step_) / elapsed;
+  const double eta = elapsed * (end_time - simulation_.time()) / std::max(simulation_.time() - first_time_, 1e-12);
+  std::fprintf(stderr, "\r%s  t = %.4f / %.4f s  step %lld  %.0f steps/s  ETA %.0f s   ", info_.name.c_str(),
+               simulation_.time(), end_time, step, rate, eta);
+  std::fflush(stderr);
+}
+
+// The time loop: a step, its series row and frame when due, a checkpoint when due, the stop
+// request. Returns the stop reason (empty when the end time was reached).
+std::string RunSession::advance_to_end() {
+  const long long checkpoint_every = scene_.output.checkpoint_every_steps;
   std::string stop_reason;
+  while (simulation_.time() + 1e-6 * simulation_.method().time_step(simulation_.particles()) < scene_.time.end_time) {
+    simulation_.advance();
+    const long long step = simulation_.steps();
+    const bool frame_by_time = crossed(scene_.output.frame_interval, next_frame_time_);
+    const bool series_by_time = crossed(scene_.output.series_interval, next_series_time_);
+    const bool frame = step % scene_.output.frame_every_steps == 0 || frame_by_time;
+    if (frame || series_by_time || step % scene_.output.series_every_steps == 0) record(frame);
+    if (checkpoint_every > 0 && step % checkpoint_every == 0) write_checkpoint();
+    if (options_.stop_reason) stop_reason = options_.stop_reason();
+    if (!stop_reason.empty()) break;
+    show_progress(step);
+  }
+  return stop_reason;
+}
+
+// After the loop: a run stopped on request writes the checkpoint first, so that it lists
+// only the regular output; the extra frame of this step shows where the run stands, and
+// `resume` removes it (the uninterrupted run has no frame here). A completed run keeps its
+// final state, so that `resume --end-time` can extend it.
+void RunSession::finish(const std::string& stop_reason, RunResult& result) {
+  if (!stop_reason.empty()) {
+    result.status = "interrupted";
+    result.message = "stopped by " + stop_reason + " at t = " + format_double(simulation_.time()) + " s (step " +
+                     std::to_string(simulation_.steps()) + "); continue with: mps_lab resume " +
+                     directory_.string();
+    if (checkpoint_step_ != simulation_.steps()) write_checkpoint();
+    if (output_.last_frame_step() != simulation_.steps()) record(true);
+  } else {
+    if (output_.last_frame_step() != simulation_.steps()) record(true);
+    if (scene_.output.checkpoint_every_steps > 0 && checkpoint_step_ != simulation_.steps()) write_checkpoint();
+  }
+}
+
+// The state where a run broke or failed, for a post-mortem (ParaView shows where). A
+// blown-up state may not be measurable (the search refuses it) or writable: then the
+// exception is dropped (a runtime_error after a stop, any exception after a failure) and
+// run.json still says why.
+template <typename Dropped>
+void RunSession::record_post_mortem() {
   try {
-    while (simulation.time() + 1e-6 * simulation.method().time_step(simulation.particles()) < end_time) {
-      simulation.advance();
-      const long long step = simulation.steps();
-      const bool frame_by_time = crossed(scene.output.frame_interval, next_frame_time);
-      const bool series_by_time = crossed(scene.output.series_interval, next_series_time);
-      const bool frame = step % scene.output.frame_every_steps == 0 || frame_by_time;
-      if (frame || series_by_time || step % scene.output.series_every_steps == 0) record(frame);
-      if (checkpoint_every > 0 && step % checkpoint_every == 0) write_checkpoint();
-      if (options.stop_reason) stop_reason = options.stop_reason();
-      if (!stop_reason.empty()) break;
-      if (show_progress && seconds_since(last_progress) > 0.5) {
-        last_progress = Clock::now();
-        const double elapsed = seconds_since(started);
-        const double rate = static_cast<double>(step - first_step) / elapsed;
-        const double eta =
-            elapsed * (end_time - simulation.time()) / std::max(simulation.time() - first_time, 1e-12);
-        std::fprintf(stderr, "\r%s  t = %.4f / %.4f s  step %lld  %.0f steps/s  ETA %.0f s   ", info->name.c_str(),
-                     simulation.time(), end_time, step, rate, eta);
-        std::fflush(stderr);
-      }
-    }
-    if (!stop_reason.empty()) {
-      // Stopped on request: the checkpoint first, so that it lists only the regular output;
-      // the extra frame of this step shows where the run stands, and `resume` removes it
-      // (the uninterrupted run has no frame here).
-      result.status = "interrupted";
-      result.message = "stopped by " + stop_reason + " at t = " + format_double(simulation.time()) + " s (step " +
-                       std::to_string(simulation.steps()) + "); continue with: mps_lab resume " +
-                       result.directory.string();
-      if (checkpoint_step != simulation.steps()) write_checkpoint();
-      if (output.last_frame_step() != simulation.steps()) record(true);
-    } else {
-      if (output.last_frame_step() != simulation.steps()) record(true);
-      // A completed run keeps its final state, so that `resume --end-time` can extend it.
-      if (checkpoint_every > 0 && checkpoint_step != simulation.steps()) write_checkpoint();
-    }
+    record(true);
+  } catch (const Dropped&) {
+  }
+}
+
+void RunSession::write_final_summary(const RunResult& result) {
+  // Particle counts at the end (not measure_flow: a blown-up state may not be searchable).
+  std::size_t fluid_final = 0, ghost_final = 0;
+  for (const ParticleType type : simulation_.particles().type) {
+    fluid_final += type == ParticleType::Fluid ? 1 : 0;
+    ghost_final += type == ParticleType::Ghost ? 1 : 0;
+  }
+  summary_["status"] = result.status;
+  if (!result.message.empty()) summary_["message"] = result.message;
+  summary_["steps"] = result.steps;
+  summary_["simulated_time"] = result.simulated_time;
+  summary_["wall_seconds"] = result.wall_seconds;
+  summary_["particles"]["ghost_final"] = ghost_final;
+  summary_["particles"]["fluid_final"] = fluid_final;
+  summary_["frames"] = output_.frames_written();
+  summary_["solver"] = {
+      {"total_iterations", simulation_.total_solver_iterations()},
+      {"max_iterations", simulation_.max_solver_iterations()},
+      {"mean_iterations", result.steps > 0 ? static_cast<double>(simulation_.total_solver_iterations()) /
+                                                 static_cast<double>(result.steps)
+                                           : 0.0}};
+  summary_["method_summary"] = simulation_.method().summary();
+  summary_["stability"] = simulation_.monitor().summary();
+  summary_["fluid_particle_steps_per_second"] =
+      result.wall_seconds > 0
+          ? static_cast<double>(initial_.fluid) * static_cast<double>(result.steps) / result.wall_seconds
+          : 0.0;
+  // This session's phases (a resumed run profiles the steps since it resumed).
+  summary_["profile"] = profile_json(timers_, seconds_since(started_), simulation_.steps() - first_step_, initial_.fluid);
+  summary_["profile"]["threads"] = omp_get_max_threads();
+  // The process's peak resident memory (the whole program: at 1e6 particles the particle
+  // data dominates; for small scenes the program's own ~10 MB does).
+  const std::size_t peak_memory = peak_resident_memory_bytes();
+  summary_["memory"] = {
+      {"peak_resident_bytes", peak_memory},
+      {"bytes_per_particle", static_cast<double>(peak_memory) /
+                                 static_cast<double>(std::max<std::size_t>(1, simulation_.particles().size()))}};
+  output_.write_summary(summary_);
+}
+
+RunResult RunSession::run() {
+  RunResult result;
+  result.directory = directory_;
+  if (setup_.resuming) restore_checkpoint();
+  write_starting_summary();
+  checkpoint_step_ = setup_.resuming ? simulation_.steps() : -1;
+  show_progress_ = options_.progress && ::isatty(STDERR_FILENO) != 0;
+  first_step_ = simulation_.steps();
+  first_time_ = simulation_.time();
+  last_progress_ = Clock::now();
+  if (!setup_.resuming) record(true);
+  result.status = "completed";
+  try {
+    finish(advance_to_end(), result);
   } catch (const OutputError&) {
     throw;
   } catch (const RunStopped& stopped) {
     result.status = stopped.status();
     result.message = stopped.what();
-    try {
-      record(true);  // the state where it broke, for a post-mortem
-    } catch (const std::runtime_error&) {
-      // a blown-up state may not be measurable (the search refuses it); run.json says why
-    }
+    record_post_mortem<std::runtime_error>();
   } catch (const std::runtime_error& error) {
     result.status = "failed";
     result.message = error.what();
-    try {
-      record(true);  // the state at failure, for a post-mortem (ParaView shows where it broke)
-    } catch (const std::exception&) {
-      // the failure may have made the state unwritable; run.json still tells why
-    }
+    record_post_mortem<std::exception>();
   }
-  if (show_progress) std::fprintf(stderr, "\r%*s\r", 100, "");
-
-  result.steps = simulation.steps();
-  result.simulated_time = simulation.time();
+  if (show_progress_) std::fprintf(stderr, "\r%*s\r", 100, "");
+  result.steps = simulation_.steps();
+  result.simulated_time = simulation_.time();
   result.wall_seconds = wall_seconds();
-  // Particle counts at the end (not measure_flow: a blown-up state may not be searchable).
-  std::size_t fluid_final = 0, ghost_final = 0;
-  for (const ParticleType type : simulation.particles().type) {
-    fluid_final += type == ParticleType::Fluid ? 1 : 0;
-    ghost_final += type == ParticleType::Ghost ? 1 : 0;
-  }
-  summary["status"] = result.status;
-  if (!result.message.empty()) summary["message"] = result.message;
-  summary["steps"] = result.steps;
-  summary["simulated_time"] = result.simulated_time;
-  summary["wall_seconds"] = result.wall_seconds;
-  summary["particles"]["ghost_final"] = ghost_final;
-  summary["particles"]["fluid_final"] = fluid_final;
-  summary["frames"] = output.frames_written();
-  summary["solver"] = {
-      {"total_iterations", simulation.total_solver_iterations()},
-      {"max_iterations", simulation.max_solver_iterations()},
-      {"mean_iterations", result.steps > 0 ? static_cast<double>(simulation.total_solver_iterations()) /
-                                                 static_cast<double>(result.steps)
-                                           : 0.0}};
-  summary["method_summary"] = simulation.method().summary();
-  summary["stability"] = simulation.monitor().summary();
-  summary["fluid_particle_steps_per_second"] =
-      result.wall_seconds > 0 ? static_cast<double>(initial.fluid) * static_cast<double>(result.steps) / result.wall_seconds
-                              : 0.0;
-  // This session's phases (a resumed run profiles the steps since it resumed).
-  summary["profile"] = profile_json(timers, seconds_since(started), simulation.steps() - first_step, initial.fluid);
-  summary["profile"]["threads"] = omp_get_max_threads();
-  // The process's peak resident memory (the whole program: at 1e6 particles the particle
-  // data dominates; for small scenes the program's own ~10 MB does).
-  const std::size_t peak_memory = peak_resident_memory_bytes();
-  summary["memory"] = {{"peak_resident_bytes", peak_memory},
-                       {"bytes_per_particle", static_cast<double>(peak_memory) /
-                                                  static_cast<double>(std::max<std::size_t>(1, simulation.particles().size()))}};
-  output.write_summary(summary);
-  result.summary = summary;
+  write_final_summary(result);
+  result.summary = summary_;
   return result;
+}
+
+}  // namespace
+
+RunResult run_simulation(const RunOptions& options, const MethodRegistry& methods,
+                         const WallTreatmentRegistry& walls) {
+  const auto started = Clock::now();
+  const RunSetup setup = resolve_run(options, methods, walls);
+  RunSession session(options, setup, run_directory(options, setup), started);
+  return session.run();
 }
 
 }  // namespace mps_lab

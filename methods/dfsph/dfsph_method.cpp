@@ -173,115 +173,19 @@ class DfsphMethod final : public Method {
   }
 
   StepReport step(ParticleSet& particles, double dt) override {
-    const auto count = static_cast<std::ptrdiff_t>(particles.size());
-    const bool threaded = count >= kThreadedLoopMinimum;
     WallContext context{particles, &neighbours_, dt, scene_};
-
-    // 1. neighbourhoods (and the wall samples of a boundary model without wall particles)
-    {
-      const auto timed = measure(timers_, search_phase_);
-      search(particles);
-    }
-    build_samples(context);  // the boundary model's samples: timed as "wall_treatment" by walls_
-    {
-      const auto timed = measure(timers_, operators_phase_);
-      cache_kernels(particles);
-    }
-    walls_.after_neighbour_search(context);
+    find_neighbourhoods(particles, context);  // 1.
     const SphSystem sph = system();
-
-    // 2. densities and factors alpha_i
-    auto& density = particles.field("density");
-    auto& alpha = particles.field("dfsph_factor");
-    double compression = 0.0;
-    {
-      const auto timed = measure(timers_, operators_phase_);
-      compute_densities(particles, sph, density);
-      compute_dfsph_factors(particles, sph, density, alpha);
-      compression = mean_compression(particles, density);
-    }
-
-    // 3. divergence-free solver (Algorithm 2)
-    SolverOutcome divergence;
-    if (divergence_enabled_) {
-      const auto timed = measure(timers_, divergence_phase_);
-      divergence = correct_divergence_error(particles, sph, density, alpha, dt, divergence_settings_,
-                                            divergence_min_neighbours_, divergence_stiffness_, workspace_);
-      divergence_totals_.add(divergence);
-    } else {
-      std::fill(divergence_stiffness_.begin(), divergence_stiffness_.end(), 0.0);
-    }
-
-    // 4. non-pressure forces
-    {
-      const auto timed = measure(timers_, operators_phase_);
-      const Vec2 gravity = scene_.physics.gravity;
-#pragma omp parallel for schedule(static) if (threaded)
-      for (std::ptrdiff_t i = 0; i < count; ++i) {
-        acceleration_[i] = particles.type[i] == ParticleType::Fluid ? gravity : Vec2::Zero();
-      }
-      if (scene_.physics.kinematic_viscosity > 0.0) {
-        add_viscous_acceleration(particles, sph, density, scene_.physics.kinematic_viscosity, kernel_.support(),
-                                 acceleration_);
-      }
-      if (sample_hydrostatic_) add_sample_hydrostatic_acceleration(particles, sph, density, gravity, acceleration_);
-    }
-
+    const double compression = densities_and_factors(particles, sph);  // 2.
+    const SolverOutcome divergence = solve_divergence(particles, sph, dt);  // 3.
+    add_non_pressure_forces(particles, sph);  // 4.
     // 5. the time step dt was chosen by time_step(); 6. predicted velocities
-    {
-      const auto timed = measure(timers_, integration_phase_);
-#pragma omp parallel for schedule(static) if (threaded)
-      for (std::ptrdiff_t i = 0; i < count; ++i) {
-        if (particles.type[i] == ParticleType::Fluid) particles.velocity[i] += dt * acceleration_[i];
-      }
-    }
+    predict_velocities(particles, dt);
     walls_.after_explicit_velocity(context);
-
-    // 7. constant-density solver (Algorithm 3)
-    SolverOutcome pressure;
-    {
-      const auto timed = measure(timers_, density_phase_);
-      pressure =
-          correct_density_error(particles, sph, density, alpha, dt, density_settings_, density_stiffness_, workspace_);
-      density_totals_.add(pressure);
-    }
-
-    // The pressure the step applied, in Pa, and 8. advection. Both solvers applied the
-    // pressure-force operator at x^n during this step, so the momentum the step gave is that
-    // of p = (kappa + kappa^v) rho (docs/methods/dfsph.md).
-    {
-      const auto timed = measure(timers_, integration_phase_);
-      auto& divergence_pressure = particles.field("divergence_pressure");
-#pragma omp parallel for schedule(static) if (threaded)
-      for (std::ptrdiff_t i = 0; i < count; ++i) {
-        const bool fluid = particles.type[i] == ParticleType::Fluid;
-        divergence_pressure[i] = fluid ? divergence_stiffness_[i] * density[i] : 0.0;
-        if (!fluid) continue;
-        particles.pressure[i] = density_stiffness_[i] * density[i] + divergence_pressure[i];
-        particles.position[i] += dt * particles.velocity[i];
-      }
-    }
-    if (walls_.wall_particles()) {  // reads the fluid pressures and the kernel cache at x^n, not positions
-      const auto timed = measure(timers_, operators_phase_);
-      compute_boundary_pressures(particles, sph, kernel_, density, scene_.particle_spacing);
-    }
-    walls_.after_correction(context);
-    {
-      const auto timed = measure(timers_, integration_phase_);
-      ghosts_ += mark_escaped_as_ghosts(particles, scene_);
-    }
-
+    const SolverOutcome pressure = solve_density(particles, sph, dt);  // 7.
+    advect(particles, sph, dt, context);  // 8.
     clock_.advance(dt);
-    StepReport report;
-    report.speed_limited_particles = context.speed_limited;
-    report.solver_iterations = pressure.iterations;
-    report.solver_residual = pressure.error;
-    report.solver_converged = pressure.converged && divergence.converged;
-    report.solver_note = convergence_note(divergence, divergence_settings_, "divergence") +
-                         convergence_note(pressure, density_settings_, "density");
-    report.extra = {static_cast<double>(divergence.iterations), divergence.error,
-                    static_cast<double>(pressure.iterations), pressure.error, compression};
-    return report;
+    return step_report(divergence, pressure, compression, context);
   }
 
   nlohmann::json summary() const override {
@@ -354,6 +258,144 @@ class DfsphMethod final : public Method {
   }
 
  private:
+  // 1. neighbourhoods (and the wall samples of a boundary model without wall particles), the
+  // kernel cache, the wall hook after the search.
+  void find_neighbourhoods(ParticleSet& particles, WallContext& context) {
+    {
+      const auto timed = measure(timers_, search_phase_);
+      search(particles);
+    }
+    build_samples(context);  // the boundary model's samples: timed as "wall_treatment" by walls_
+    {
+      const auto timed = measure(timers_, operators_phase_);
+      cache_kernels(particles);
+    }
+    walls_.after_neighbour_search(context);
+  }
+
+  // 2. densities and factors alpha_i; returns the mean compression.
+  double densities_and_factors(ParticleSet& particles, const SphSystem& sph) {
+    auto& density = particles.field("density");
+    auto& alpha = particles.field("dfsph_factor");
+    double compression = 0.0;
+    {
+      const auto timed = measure(timers_, operators_phase_);
+      compute_densities(particles, sph, density);
+      compute_dfsph_factors(particles, sph, density, alpha);
+      compression = mean_compression(particles, density);
+    }
+    return compression;
+  }
+
+  // 3. divergence-free solver (Algorithm 2)
+  SolverOutcome solve_divergence(ParticleSet& particles, const SphSystem& sph, double dt) {
+    const auto& density = particles.field("density");
+    const auto& alpha = particles.field("dfsph_factor");
+    SolverOutcome divergence;
+    if (divergence_enabled_) {
+      const auto timed = measure(timers_, divergence_phase_);
+      divergence = correct_divergence_error(particles, sph, density, alpha, dt, divergence_settings_,
+                                            divergence_min_neighbours_, divergence_stiffness_, workspace_);
+      divergence_totals_.add(divergence);
+    } else {
+      std::fill(divergence_stiffness_.begin(), divergence_stiffness_.end(), 0.0);
+    }
+    return divergence;
+  }
+
+  // 4. non-pressure forces
+  void add_non_pressure_forces(const ParticleSet& particles, const SphSystem& sph) {
+    const auto count = static_cast<std::ptrdiff_t>(particles.size());
+    const bool threaded = count >= kThreadedLoopMinimum;
+    const auto& density = particles.field("density");
+    {
+      const auto timed = measure(timers_, operators_phase_);
+      const Vec2 gravity = scene_.physics.gravity;
+#pragma omp parallel for schedule(static) if (threaded)
+      for (std::ptrdiff_t i = 0; i < count; ++i) {
+        acceleration_[i] = particles.type[i] == ParticleType::Fluid ? gravity : Vec2::Zero();
+      }
+      if (scene_.physics.kinematic_viscosity > 0.0) {
+        add_viscous_acceleration(particles, sph, density, scene_.physics.kinematic_viscosity, kernel_.support(),
+                                 acceleration_);
+      }
+      if (sample_hydrostatic_) add_sample_hydrostatic_acceleration(particles, sph, density, gravity, acceleration_);
+    }
+  }
+
+  // 6. predicted velocities
+  void predict_velocities(ParticleSet& particles, double dt) {
+    const auto count = static_cast<std::ptrdiff_t>(particles.size());
+    const bool threaded = count >= kThreadedLoopMinimum;
+    {
+      const auto timed = measure(timers_, integration_phase_);
+#pragma omp parallel for schedule(static) if (threaded)
+      for (std::ptrdiff_t i = 0; i < count; ++i) {
+        if (particles.type[i] == ParticleType::Fluid) particles.velocity[i] += dt * acceleration_[i];
+      }
+    }
+  }
+
+  // 7. constant-density solver (Algorithm 3)
+  SolverOutcome solve_density(ParticleSet& particles, const SphSystem& sph, double dt) {
+    const auto& density = particles.field("density");
+    const auto& alpha = particles.field("dfsph_factor");
+    SolverOutcome pressure;
+    {
+      const auto timed = measure(timers_, density_phase_);
+      pressure =
+          correct_density_error(particles, sph, density, alpha, dt, density_settings_, density_stiffness_, workspace_);
+      density_totals_.add(pressure);
+    }
+    return pressure;
+  }
+
+  // 8. advection, the pressure the step applied, the wall pressures, the wall hook after the
+  // correction, escaped particles to ghosts.
+  void advect(ParticleSet& particles, const SphSystem& sph, double dt, WallContext& context) {
+    const auto count = static_cast<std::ptrdiff_t>(particles.size());
+    const bool threaded = count >= kThreadedLoopMinimum;
+    const auto& density = particles.field("density");
+    // The pressure the step applied, in Pa, and 8. advection. Both solvers applied the
+    // pressure-force operator at x^n during this step, so the momentum the step gave is that
+    // of p = (kappa + kappa^v) rho (docs/methods/dfsph.md).
+    {
+      const auto timed = measure(timers_, integration_phase_);
+      auto& divergence_pressure = particles.field("divergence_pressure");
+#pragma omp parallel for schedule(static) if (threaded)
+      for (std::ptrdiff_t i = 0; i < count; ++i) {
+        const bool fluid = particles.type[i] == ParticleType::Fluid;
+        divergence_pressure[i] = fluid ? divergence_stiffness_[i] * density[i] : 0.0;
+        if (!fluid) continue;
+        particles.pressure[i] = density_stiffness_[i] * density[i] + divergence_pressure[i];
+        particles.position[i] += dt * particles.velocity[i];
+      }
+    }
+    if (walls_.wall_particles()) {  // reads the fluid pressures and the kernel cache at x^n, not positions
+      const auto timed = measure(timers_, operators_phase_);
+      compute_boundary_pressures(particles, sph, kernel_, density, scene_.particle_spacing);
+    }
+    walls_.after_correction(context);
+    {
+      const auto timed = measure(timers_, integration_phase_);
+      ghosts_ += mark_escaped_as_ghosts(particles, scene_);
+    }
+  }
+
+  StepReport step_report(const SolverOutcome& divergence, const SolverOutcome& pressure, double compression,
+                         const WallContext& context) const {
+    StepReport report;
+    report.speed_limited_particles = context.speed_limited;
+    report.solver_iterations = pressure.iterations;
+    report.solver_residual = pressure.error;
+    report.solver_converged = pressure.converged && divergence.converged;
+    report.solver_note = convergence_note(divergence, divergence_settings_, "divergence") +
+                         convergence_note(pressure, density_settings_, "density");
+    report.extra = {static_cast<double>(divergence.iterations), divergence.error,
+                    static_cast<double>(pressure.iterations), pressure.error, compression};
+    return report;
+  }
+
   SphSystem system() const {
     return {neighbours_, cache_, boundary_mass_, particle_mass_, rest_density_, &samples_, &sample_cache_};
   }

@@ -3,6 +3,8 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "core/search/for_each_neighbour.hpp"
+
 namespace mps_lab::dfsph {
 
 namespace {
@@ -28,10 +30,9 @@ void fill_kernel_cache(const ParticleSet& particles, const NeighbourList& neighb
 #pragma omp parallel for schedule(static) if (n >= kThreadedLoopMinimum)
   for (std::ptrdiff_t i = 0; i < n; ++i) {
     if (weighted && particles.type[i] != ParticleType::Fluid) continue;
-    for (std::uint32_t k = neighbours.begin(i); k < neighbours.end(i); ++k) {
-      const std::uint32_t j = neighbours.indices[k];
+    for_each_neighbour(neighbours, i, [&](std::uint32_t k, std::uint32_t j) {
       evaluate_kernel(kernel, particles.position[i] - particles.position[j], cache.value[k], cache.gradient[k]);
-      if (!weighted) continue;
+      if (!weighted) return;
       double mass = 0.0;  // kg/m: m (fluid), Psi_b (boundary; 0 for an unused wall layer)
       if (particles.type[j] == ParticleType::Fluid) {
         mass = particle_mass;
@@ -39,7 +40,7 @@ void fill_kernel_cache(const ParticleSet& particles, const NeighbourList& neighb
         mass = (*boundary_mass)[j];
       }
       cache.weighted_gradient[k] = mass * cache.gradient[k];
-    }
+    });
   }
 }
 
@@ -71,8 +72,7 @@ void compute_sample_cache(const ParticleSet& particles, const WallSampleList& sa
   const auto count_n = static_cast<std::ptrdiff_t>(n);
 #pragma omp parallel for schedule(static) if (count_n >= kThreadedLoopMinimum)
   for (std::ptrdiff_t i = 0; i < count_n; ++i) {
-    for (std::uint32_t k = samples.begin(i); k < samples.end(i); ++k) {
-      const WallSample& w = samples.samples[k];
+    for_each_neighbour(samples, i, [&](std::uint32_t k, const WallSample& w) {
       const Vec2 r_iw = particles.position[i] - w.position;
       const double psi = rest_density * w.volume * lattice_volume;  // Psi_w = rho0 V_w
       const Vec2 gradient = kernel.gradient(r_iw);
@@ -85,7 +85,7 @@ void compute_sample_cache(const ParticleSet& particles, const WallSampleList& sa
       const bool own = w.source == static_cast<std::uint32_t>(i);
       cache.own[k] = psi * (own ? Vec2(gradient - moved) : gradient);
       cache.reaction[k] = own ? Vec2::Zero() : Vec2(psi * moved);
-    }
+    });
   }
   // The samples of other particles by source (in owner order: deterministic).
   cache.by_source_offsets.assign(n + 1, 0);
@@ -123,9 +123,9 @@ void compute_boundary_masses(const ParticleSet& particles, const NeighbourList& 
       continue;
     }
     double number_density = kernel.self_value;  // delta_b = sum_k W_bk, k = b included
-    for (std::uint32_t k = neighbours.begin(b); k < neighbours.end(b); ++k) {
+    for_each_neighbour(neighbours, b, [&](std::uint32_t k, std::uint32_t) {
       if (uses(neighbours.indices[k])) number_density += kernel.value[k];
-    }
+    });
     boundary_mass[b] = rest_density / number_density;  // Psi_b = rho0 V_b, V_b = 1 / delta_b
   }
 }
@@ -142,19 +142,18 @@ void compute_densities(const ParticleSet& particles, const SphSystem& system, st
     }
     double fluid_sum = system.kernel.self_value;  // sum_j W_ij over fluid j, i included
     double boundary_sum = 0.0;                    // sum_b Psi_b W_ib, kg/m^3
-    for (std::uint32_t k = list.begin(i); k < list.end(i); ++k) {
-      const std::uint32_t j = list.indices[k];
+    for_each_neighbour(list, i, [&](std::uint32_t k, std::uint32_t j) {
       if (particles.type[j] == ParticleType::Fluid) {
         fluid_sum += system.kernel.value[k];
       } else if (is_boundary(particles, system, j)) {
         boundary_sum += system.boundary_mass[j] * system.kernel.value[k];
       }
-    }
+    });
     if (system.has_samples()) {
       const auto& w = *system.sample_kernel;
-      for (std::uint32_t k = system.samples->begin(i); k < system.samples->end(i); ++k) {
+      for_each_neighbour(*system.samples, i, [&](std::uint32_t k, const WallSample&) {
         boundary_sum += w.mass[k] * w.value[k];  // a wall sample: a boundary particle of mass Psi_w
-      }
+      });
     }
     density[i] = system.particle_mass * fluid_sum + boundary_sum;  // SPH density sum, [AIA12] boundary term
   }
@@ -172,8 +171,7 @@ void compute_dfsph_factors(const ParticleSet& particles, const SphSystem& system
     if (particles.type[i] != ParticleType::Fluid) continue;
     Vec2 gradient_sum = Vec2::Zero();  // sum_j m grad W_ij + sum_b Psi_b grad W_ib
     double squared_sum = 0.0;          // sum_j |m grad W_ij|^2 over fluid j
-    for (std::uint32_t k = list.begin(i); k < list.end(i); ++k) {
-      const std::uint32_t j = list.indices[k];
+    for_each_neighbour(list, i, [&](std::uint32_t k, std::uint32_t j) {
       if (particles.type[j] == ParticleType::Fluid) {
         const Vec2 term = m * system.kernel.gradient[k];
         gradient_sum += term;
@@ -181,7 +179,7 @@ void compute_dfsph_factors(const ParticleSet& particles, const SphSystem& system
       } else if (is_boundary(particles, system, j)) {
         gradient_sum += system.boundary_mass[j] * system.kernel.gradient[k];
       }
-    }
+    });
     if (system.has_samples()) {
       // First term: G_ii of the samples. Second term: the samples that move with another
       // fluid particle j (images of j) add -Psi M^T grad W_iw to G_ij, grouped with the pair
@@ -189,30 +187,27 @@ void compute_dfsph_factors(const ParticleSet& particles, const SphSystem& system
       const auto& w = *system.sample_kernel;
       const auto& samples = *system.samples;
       bool foreign = false;
-      for (std::uint32_t k = samples.begin(i); k < samples.end(i); ++k) {
+      for_each_neighbour(samples, i, [&](std::uint32_t k, const WallSample& wall) {
         gradient_sum += w.own[k];
-        foreign = foreign || samples.samples[k].source != static_cast<std::uint32_t>(i);
-      }
+        foreign = foreign || wall.source != static_cast<std::uint32_t>(i);
+      });
       if (foreign) {
         squared_sum = 0.0;  // recomputed with the images grouped by their source
-        for (std::uint32_t k = list.begin(i); k < list.end(i); ++k) {
-          const std::uint32_t j = list.indices[k];
-          if (particles.type[j] != ParticleType::Fluid) continue;
+        for_each_neighbour(list, i, [&](std::uint32_t k, std::uint32_t j) {
+          if (particles.type[j] != ParticleType::Fluid) return;
           Vec2 term = m * system.kernel.gradient[k];
-          for (std::uint32_t q = samples.begin(i); q < samples.end(i); ++q) {
-            if (samples.samples[q].source == j) term += w.reaction[q];
-          }
+          for_each_neighbour(samples, i, [&](std::uint32_t q, const WallSample& wall) {
+            if (wall.source == j) term += w.reaction[q];
+          });
           squared_sum += term.squaredNorm();
-        }
-        for (std::uint32_t q = samples.begin(i); q < samples.end(i); ++q) {
-          const std::uint32_t j = samples.samples[q].source;
-          if (j == static_cast<std::uint32_t>(i)) continue;
-          bool listed = false;
-          for (std::uint32_t k = list.begin(i); k < list.end(i) && !listed; ++k) {
-            listed = list.indices[k] == j && particles.type[j] == ParticleType::Fluid;
-          }
+        });
+        for_each_neighbour(samples, i, [&](std::uint32_t q, const WallSample& wall) {
+          const std::uint32_t j = wall.source;
+          if (j == static_cast<std::uint32_t>(i)) return;
+          const bool listed =
+              any_neighbour(list, i, [&](std::uint32_t neighbour) { return neighbour == j && particles.type[j] == ParticleType::Fluid; });
           if (!listed) squared_sum += w.reaction[q].squaredNorm();
-        }
+        });
       }
     }
     const double denominator = gradient_sum.squaredNorm() + squared_sum;
@@ -233,20 +228,19 @@ void compute_density_change_rate(const ParticleSet& particles, const SphSystem& 
     if (particles.type[i] != ParticleType::Fluid) continue;
     const Vec2 vi = particles.velocity[i];
     double sum = 0.0;
-    for (std::uint32_t k = list.begin(i); k < list.end(i); ++k) {
-      const std::uint32_t j = list.indices[k];
+    for_each_neighbour(list, i, [&](std::uint32_t k, std::uint32_t j) {
       if (particles.type[j] == ParticleType::Fluid) {
         sum += m * (vi - particles.velocity[j]).dot(system.kernel.gradient[k]);
       } else if (is_boundary(particles, system, j)) {
         sum += system.boundary_mass[j] * vi.dot(system.kernel.gradient[k]);  // v_b = 0
       }
-    }
+    });
     if (system.has_samples()) {
       const auto& w = *system.sample_kernel;
-      for (std::uint32_t k = system.samples->begin(i); k < system.samples->end(i); ++k) {
+      for_each_neighbour(*system.samples, i, [&](std::uint32_t k, const WallSample&) {
         const Vec2 uw = sample_velocity(system.samples->samples[k], particles.velocity);  // u_w = M v_s, now
         sum += w.mass[k] * (vi - uw).dot(w.gradient[k]);
-      }
+      });
     }
     rate[i] = sum;  // [BK17] eq. (9)
   }
@@ -266,8 +260,7 @@ void add_viscous_acceleration(const ParticleSet& particles, const SphSystem& sys
     if (particles.type[i] != ParticleType::Fluid) continue;
     const double rho_i = density[i];
     Vec2 sum = Vec2::Zero();
-    for (std::uint32_t k = list.begin(i); k < list.end(i); ++k) {
-      const std::uint32_t j = list.indices[k];
+    for_each_neighbour(list, i, [&](std::uint32_t k, std::uint32_t j) {
       double mass = 0.0, rho_j = 0.0;
       Vec2 vj = Vec2::Zero();
       if (particles.type[j] == ParticleType::Fluid) {
@@ -278,21 +271,20 @@ void add_viscous_acceleration(const ParticleSet& particles, const SphSystem& sys
         mass = system.boundary_mass[j];
         rho_j = rho0;
       } else {
-        continue;
+        return;
       }
       const Vec2 r_ij = particles.position[i] - particles.position[j];
       const double weight = r_ij.dot(system.kernel.gradient[k]) / (r_ij.squaredNorm() + eta2);  // 1/m^2
       sum += mass * (rho_i + rho_j) / (rho_i * rho_j) * weight * (particles.velocity[i] - vj);  // [MFZ97] eq. (8)
-    }
+    });
     if (system.has_samples()) {
       const auto& w = *system.sample_kernel;
-      for (std::uint32_t k = system.samples->begin(i); k < system.samples->end(i); ++k) {
-        const WallSample& sample = system.samples->samples[k];
+      for_each_neighbour(*system.samples, i, [&](std::uint32_t k, const WallSample& sample) {
         const Vec2 uw = sample_velocity(sample, particles.velocity);
         const Vec2 r_iw = particles.position[i] - sample.position;
         const double weight = r_iw.dot(w.gradient[k]) / (r_iw.squaredNorm() + eta2);
         sum += w.mass[k] * (rho_i + rho0) / (rho_i * rho0) * weight * (particles.velocity[i] - uw);
-      }
+      });
     }
     acceleration[i] += kinematic_viscosity * sum;
   }
@@ -308,15 +300,14 @@ void compute_boundary_pressures(ParticleSet& particles, const SphSystem& system,
     if (particles.type[b] != ParticleType::Wall) continue;
     Vec2 force = Vec2::Zero();  // N per metre of depth
     if (system.boundary_mass[b] > 0.0) {
-      for (std::uint32_t k = list.begin(b); k < list.end(b); ++k) {
-        const std::uint32_t f = list.indices[k];
-        if (particles.type[f] != ParticleType::Fluid) continue;
+      for_each_neighbour(list, b, [&](std::uint32_t f) {
+        if (particles.type[f] != ParticleType::Fluid) return;
         // Reaction to the boundary term of the solvers' pressure correction on f:
         // m Psi_b (p_f / rho_f^2) grad_f W_fb, and grad_f W_fb = -grad_b W_bf (evaluated here:
         // the step's kernel cache holds the rows of fluid particles only).
         const double s_f = particles.pressure[f] / (density[f] * density[f]);
         force -= m * system.boundary_mass[b] * s_f * kernel.gradient(particles.position[b] - particles.position[f]);
-      }
+      });
     }
     particles.pressure[b] = force.norm() / face_length;
   }
@@ -334,16 +325,15 @@ void count_active_neighbours(const ParticleSet& particles, const SphSystem& syst
     counts[i] = 0.0;
     if (particles.type[i] != ParticleType::Fluid) continue;
     std::uint32_t count = 0;
-    for (std::uint32_t k = list.begin(i); k < list.end(i); ++k) {
-      const std::uint32_t j = list.indices[k];
-      if (system.kernel.value[k] <= negligible) continue;
+    for_each_neighbour(list, i, [&](std::uint32_t k, std::uint32_t j) {
+      if (system.kernel.value[k] <= negligible) return;
       count += particles.type[j] == ParticleType::Fluid || is_boundary(particles, system, j);
-    }
+    });
     double weighted = static_cast<double>(count);
     if (system.has_samples()) {
-      for (std::uint32_t k = system.samples->begin(i); k < system.samples->end(i); ++k) {
+      for_each_neighbour(*system.samples, i, [&](std::uint32_t k, const WallSample&) {
         if (system.sample_kernel->value[k] > negligible) weighted += system.samples->samples[k].volume;
-      }
+      });
     }
     counts[i] = weighted;
   }
@@ -360,12 +350,11 @@ void add_sample_hydrostatic_acceleration(const ParticleSet& particles, const Sph
   for (std::ptrdiff_t i = 0; i < n; ++i) {
     if (particles.type[i] != ParticleType::Fluid) continue;
     Vec2 sum = Vec2::Zero();
-    for (std::uint32_t k = system.samples->begin(i); k < system.samples->end(i); ++k) {
-      const WallSample& sample = system.samples->samples[k];
+    for_each_neighbour(*system.samples, i, [&](std::uint32_t k, const WallSample& sample) {
       const double offset = sample_pressure_offset(sample, particles.position, rho0, gravity);  // Pa
       const double rho_s = density[sample.source];
       sum -= w.mass[k] * offset / (rho_s * rho_s) * w.gradient[k];
-    }
+    });
     acceleration[i] += sum;
   }
 }

@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cstddef>
 
+#include "core/search/for_each_neighbour.hpp"
+
 namespace mps_lab::dfsph {
 namespace {
 
@@ -36,15 +38,166 @@ const Vec2* prepare(const ParticleSet& particles, const SphSystem& system, std::
   if (system.kernel.weighted_gradient.size() == list.indices.size()) return system.kernel.weighted_gradient.data();
   w.weighted_gradient.assign(list.indices.size(), Vec2::Zero());  // as compute_kernel_cache with the masses
   for (const std::uint32_t i : w.fluid) {
-    for (std::uint32_t k = list.begin(i); k < list.end(i); ++k) {
-      const std::uint32_t j = list.indices[k];
+    for_each_neighbour(list, i, [&](std::uint32_t k, std::uint32_t j) {
       const double mass = particles.type[j] == ParticleType::Fluid ? system.particle_mass
                           : is_boundary(particles, system, j)      ? system.boundary_mass[j]
                                                                    : 0.0;
       w.weighted_gradient[k] = mass * system.kernel.gradient[k];
-    }
+    });
   }
   return w.weighted_gradient.data();
+}
+
+// The arrays one solve iterates over (raw pointers: the loops below are the solver's hot path).
+struct IterationArrays {
+  const Vec2* coefficient;           // c_ij, kg/m^4
+  const std::uint32_t* offsets;      // the neighbour list's rows
+  const std::uint32_t* neighbour;    // and its indices
+  const std::uint32_t* fluid;        // the fluid particles
+  Vec2* velocity;                    // the solver's velocities, m/s
+  double* s;                         // stiffness over density
+  double* increment;                 // pending stiffness increments, m^2/s^2
+  double* block_error;               // per block of kErrorBlock fluid particles
+  const WallSampleList* samples;     // null without wall samples
+  const SampleCache* sample;
+  std::ptrdiff_t fluid_count;
+  std::ptrdiff_t blocks;
+};
+
+IterationArrays iteration_arrays(ParticleSet& particles, const SphSystem& system, std::vector<double>& stiffness,
+                                 SolverWorkspace& w) {
+  IterationArrays arrays{};
+  arrays.coefficient = prepare(particles, system, stiffness, w);
+  arrays.offsets = system.neighbours.offsets.data();
+  arrays.neighbour = system.neighbours.indices.data();
+  arrays.fluid = w.fluid.data();
+  arrays.velocity = w.velocity.data();
+  arrays.s = w.stiffness_over_density.data();
+  arrays.increment = w.increment.data();
+  arrays.block_error = w.block_error.data();
+  arrays.samples = system.has_samples() ? system.samples : nullptr;
+  arrays.sample = system.sample_kernel;
+  arrays.fluid_count = static_cast<std::ptrdiff_t>(w.fluid.size());
+  arrays.blocks = static_cast<std::ptrdiff_t>(w.block_error.size());
+  return arrays;
+}
+
+// The fluid particles of error block `block`: [first, last).
+inline std::ptrdiff_t block_first(std::ptrdiff_t block) { return block * static_cast<std::ptrdiff_t>(kErrorBlock); }
+inline std::ptrdiff_t block_last(const IterationArrays& a, std::ptrdiff_t block) {
+  return std::min(a.fluid_count, (block + 1) * static_cast<std::ptrdiff_t>(kErrorBlock));
+}
+
+// correct: kappa_i += its pending increment, and the pressure correction
+//   v_i <- v_i - dt [ sum_j m (s_i + s_j) grad W_ij + sum_b Psi_b s_i grad W_ib ]   ([BK17] eqs. (7)-(8))
+//        = v_i - dt sum_j (s_i + s_j) c_ij        (a boundary neighbour has s = 0: p_b = p_i, once,
+//                                                  [AIA12] and the authors' code)
+// Reads s of the neighbours, writes only particle i. Two partial sums (even and odd
+// neighbours) halve the chain of dependent additions.
+// Same partition (blocks) as predict: a thread corrects the particles it predicts, so that
+// with two threads each one's share of the neighbour lists stays in its own cache.
+// Called by every thread of the solver's parallel region (an orphaned omp for).
+void correct(const IterationArrays& a, double dt, std::vector<double>& stiffness) {
+  const double* s = a.s;
+  const Vec2* coefficient = a.coefficient;
+  const std::uint32_t* neighbour = a.neighbour;
+#pragma omp for schedule(static)
+  for (std::ptrdiff_t block = 0; block < a.blocks; ++block) {
+    const std::ptrdiff_t last = block_last(a, block);
+    for (std::ptrdiff_t f = block_first(block); f < last; ++f) {
+      const std::uint32_t i = a.fluid[f];
+      stiffness[i] += a.increment[i];
+      const double s_i = s[i];
+      Vec2 even = Vec2::Zero(), odd = Vec2::Zero();  // sum (s_i + s_j) c_ij: (1/rho) grad p, m/s^2
+      std::uint32_t k = a.offsets[i];
+      const std::uint32_t end = a.offsets[i + 1];
+      for (; k + 1 < end; k += 2) {
+        even += (s_i + s[neighbour[k]]) * coefficient[k];
+        odd += (s_i + s[neighbour[k + 1]]) * coefficient[k + 1];
+      }
+      if (k < end) even += (s_i + s[neighbour[k]]) * coefficient[k];
+      Vec2 gradient = even + odd;
+      if (a.samples != nullptr) {
+        // The constraint force of the samples: -s_i G_ii (for a sample at rest Psi_w s_i grad W_iw,
+        // [AIA12]'s mirroring), and the reaction of every constraint k whose samples move with i
+        // (images of i seen by k): -s_k G_ki = +s_k Psi M^T grad W_kw.
+        const SampleCache* sample = a.sample;
+        for_each_neighbour(*a.samples, i, [&](std::uint32_t q, const WallSample&) { gradient += s_i * sample->own[q]; });
+        for (std::uint32_t q = sample->by_source_offsets[i]; q < sample->by_source_offsets[i + 1]; ++q) {
+          const std::uint32_t kw = sample->by_source[q];
+          gradient -= s[sample->owner[kw]] * sample->reaction[kw];
+        }
+      }
+      a.velocity[i] -= dt * gradient;
+    }
+  }
+}
+
+// predict: D rho_i/Dt = sum_j c_ij . (v_i - v_j) = sum_j m (v_i - v_j) . grad W_ij + sum_b Psi_b v_i . grad W_ib
+// ([BK17] eq. (9); v_b = 0; + the wall samples), the error of i and its next increment;
+// returns the mean error (block sums in block order: the same on every thread and for every
+// thread count). The x and y products are summed apart, in two partial sums as above.
+// Called by every thread of the solver's parallel region (an orphaned omp for).
+template <class Settle>
+double predict(const IterationArrays& a, const std::vector<double>& density, const SolverWorkspace& w, Settle& settle) {
+  const Vec2* velocity = a.velocity;
+  const Vec2* coefficient = a.coefficient;
+  const std::uint32_t* neighbour = a.neighbour;
+#pragma omp for schedule(static)
+  for (std::ptrdiff_t block = 0; block < a.blocks; ++block) {
+    const std::ptrdiff_t last = block_last(a, block);
+    double error_sum = 0.0;
+    for (std::ptrdiff_t f = block_first(block); f < last; ++f) {
+      const std::uint32_t i = a.fluid[f];
+      const Vec2 vi = velocity[i];
+      Vec2 even = Vec2::Zero(), odd = Vec2::Zero();
+      std::uint32_t k = a.offsets[i];
+      const std::uint32_t end = a.offsets[i + 1];
+      for (; k + 1 < end; k += 2) {
+        even += (vi - velocity[neighbour[k]]).cwiseProduct(coefficient[k]);
+        odd += (vi - velocity[neighbour[k + 1]]).cwiseProduct(coefficient[k + 1]);
+      }
+      if (k < end) even += (vi - velocity[neighbour[k]]).cwiseProduct(coefficient[k]);
+      double rate = (even + odd).sum();  // kg/(m^3 s)
+      if (a.samples != nullptr) {
+        const SampleCache* sample = a.sample;
+        for_each_neighbour(*a.samples, i, [&](std::uint32_t q, const WallSample& wall) {
+          const Vec2 uw = sample_velocity(wall, w.velocity);  // u_w = M v_s, now
+          rate += sample->mass[q] * (vi - uw).dot(sample->gradient[q]);
+        });
+      }
+      double relative = 0.0;
+      const double change = settle(i, rate, relative);
+      a.increment[i] = change;
+      a.s[i] = change / density[i];
+      error_sum += relative;
+    }
+    a.block_error[block] = error_sum;
+  }
+  double total = 0.0;
+  for (std::ptrdiff_t block = 0; block < a.blocks; ++block) total += a.block_error[block];
+  return a.fluid_count > 0 ? total / static_cast<double>(a.fluid_count) : 0.0;
+}
+
+// Warm start ([BK17]; the fraction and the reset are the authors' code's): apply the last
+// step's total stiffness, times the fraction, to the particles that are compressed now;
+// the others start from zero, so that a stiffness left over from a past compression
+// cannot push apart particles that are no longer compressed (increments are >= 0: a
+// stiffness can only grow within a step). Without a warm start every stiffness restarts
+// from zero. Called by every thread of the solver's parallel region (an orphaned omp for).
+void start_stiffness(const IterationArrays& a, const std::vector<double>& density, const SolverSettings& settings,
+                     std::vector<double>& stiffness) {
+  const bool warm = settings.warm_start_fraction > 0.0;
+#pragma omp for schedule(static)
+  for (std::ptrdiff_t f = 0; f < a.fluid_count; ++f) {
+    const std::uint32_t i = a.fluid[f];
+    const bool keep = warm && a.increment[i] > 0.0;
+    stiffness[i] = keep ? settings.warm_start_fraction * stiffness[i] : 0.0;
+    if (warm) {  // the warm start is this correction; the increments are predicted again after it
+      a.s[i] = keep ? stiffness[i] / density[i] : 0.0;
+      a.increment[i] = 0.0;
+    }
+  }
 }
 
 // The iteration shared by Algorithms 2 and 3 of [BK17].
@@ -54,128 +207,22 @@ template <class Settle>
 SolverOutcome iterate(ParticleSet& particles, const SphSystem& system, const std::vector<double>& density, double dt,
                       const SolverSettings& settings, std::vector<double>& stiffness, SolverWorkspace& w,
                       Settle settle) {
-  const Vec2* coefficient = prepare(particles, system, stiffness, w);  // c_ij, kg/m^4
-  const std::uint32_t* offsets = system.neighbours.offsets.data();
-  const std::uint32_t* neighbour = system.neighbours.indices.data();
-  const std::uint32_t* fluid = w.fluid.data();
-  Vec2* velocity = w.velocity.data();
-  double* s = w.stiffness_over_density.data();
-  double* increment = w.increment.data();
-  double* block_error = w.block_error.data();
-  const WallSampleList* samples = system.has_samples() ? system.samples : nullptr;
-  const SampleCache* sample = system.sample_kernel;
-  const auto fluid_count = static_cast<std::ptrdiff_t>(w.fluid.size());
-  const auto blocks = static_cast<std::ptrdiff_t>(w.block_error.size());
+  const IterationArrays arrays = iteration_arrays(particles, system, stiffness, w);
   const bool warm = settings.warm_start_fraction > 0.0;
   SolverOutcome outcome;
-
-  // correct: kappa_i += its pending increment, and the pressure correction
-  //   v_i <- v_i - dt [ sum_j m (s_i + s_j) grad W_ij + sum_b Psi_b s_i grad W_ib ]   ([BK17] eqs. (7)-(8))
-  //        = v_i - dt sum_j (s_i + s_j) c_ij        (a boundary neighbour has s = 0: p_b = p_i, once,
-  //                                                  [AIA12] and the authors' code)
-  // Reads s of the neighbours, writes only particle i. Two partial sums (even and odd
-  // neighbours) halve the chain of dependent additions.
-  // Same partition (blocks) as predict: a thread corrects the particles it predicts, so that
-  // with two threads each one's share of the neighbour lists stays in its own cache.
-  const auto correct = [&]() {
-#pragma omp for schedule(static)
-    for (std::ptrdiff_t block = 0; block < blocks; ++block) {
-      const std::ptrdiff_t last = std::min(fluid_count, (block + 1) * static_cast<std::ptrdiff_t>(kErrorBlock));
-      for (std::ptrdiff_t f = block * static_cast<std::ptrdiff_t>(kErrorBlock); f < last; ++f) {
-      const std::uint32_t i = fluid[f];
-      stiffness[i] += increment[i];
-      const double s_i = s[i];
-      Vec2 even = Vec2::Zero(), odd = Vec2::Zero();  // sum (s_i + s_j) c_ij: (1/rho) grad p, m/s^2
-      std::uint32_t k = offsets[i];
-      const std::uint32_t end = offsets[i + 1];
-      for (; k + 1 < end; k += 2) {
-        even += (s_i + s[neighbour[k]]) * coefficient[k];
-        odd += (s_i + s[neighbour[k + 1]]) * coefficient[k + 1];
-      }
-      if (k < end) even += (s_i + s[neighbour[k]]) * coefficient[k];
-      Vec2 gradient = even + odd;
-      if (samples != nullptr) {
-        // The constraint force of the samples: -s_i G_ii (for a sample at rest Psi_w s_i grad W_iw,
-        // [AIA12]'s mirroring), and the reaction of every constraint k whose samples move with i
-        // (images of i seen by k): -s_k G_ki = +s_k Psi M^T grad W_kw.
-        for (std::uint32_t q = samples->begin(i); q < samples->end(i); ++q) gradient += s_i * sample->own[q];
-        for (std::uint32_t q = sample->by_source_offsets[i]; q < sample->by_source_offsets[i + 1]; ++q) {
-          const std::uint32_t kw = sample->by_source[q];
-          gradient -= s[sample->owner[kw]] * sample->reaction[kw];
-        }
-      }
-      velocity[i] -= dt * gradient;
-      }
-    }
-  };
-
-  // predict: D rho_i/Dt = sum_j c_ij . (v_i - v_j) = sum_j m (v_i - v_j) . grad W_ij + sum_b Psi_b v_i . grad W_ib
-  // ([BK17] eq. (9); v_b = 0; + the wall samples), the error of i and its next increment;
-  // returns the mean error (block sums in block order: the same on every thread and for every
-  // thread count). The x and y products are summed apart, in two partial sums as above.
-  const auto predict = [&]() {
-#pragma omp for schedule(static)
-    for (std::ptrdiff_t block = 0; block < blocks; ++block) {
-      const std::ptrdiff_t last = std::min(fluid_count, (block + 1) * static_cast<std::ptrdiff_t>(kErrorBlock));
-      double error_sum = 0.0;
-      for (std::ptrdiff_t f = block * static_cast<std::ptrdiff_t>(kErrorBlock); f < last; ++f) {
-        const std::uint32_t i = fluid[f];
-        const Vec2 vi = velocity[i];
-        Vec2 even = Vec2::Zero(), odd = Vec2::Zero();
-        std::uint32_t k = offsets[i];
-        const std::uint32_t end = offsets[i + 1];
-        for (; k + 1 < end; k += 2) {
-          even += (vi - velocity[neighbour[k]]).cwiseProduct(coefficient[k]);
-          odd += (vi - velocity[neighbour[k + 1]]).cwiseProduct(coefficient[k + 1]);
-        }
-        if (k < end) even += (vi - velocity[neighbour[k]]).cwiseProduct(coefficient[k]);
-        double rate = (even + odd).sum();  // kg/(m^3 s)
-        if (samples != nullptr) {
-          for (std::uint32_t q = samples->begin(i); q < samples->end(i); ++q) {
-            const Vec2 uw = sample_velocity(samples->samples[q], w.velocity);  // u_w = M v_s, now
-            rate += sample->mass[q] * (vi - uw).dot(sample->gradient[q]);
-          }
-        }
-        double relative = 0.0;
-        const double change = settle(i, rate, relative);
-        increment[i] = change;
-        s[i] = change / density[i];
-        error_sum += relative;
-      }
-      block_error[block] = error_sum;
-    }
-    double total = 0.0;
-    for (std::ptrdiff_t block = 0; block < blocks; ++block) total += block_error[block];
-    return fluid_count > 0 ? total / static_cast<double>(fluid_count) : 0.0;
-  };
-
-#pragma omp parallel if (fluid_count >= kThreadedLoopMinimum)
+#pragma omp parallel if (arrays.fluid_count >= kThreadedLoopMinimum)
   {
-    double error = predict();
-    // Warm start ([BK17]; the fraction and the reset are the authors' code's): apply the last
-    // step's total stiffness, times the fraction, to the particles that are compressed now;
-    // the others start from zero, so that a stiffness left over from a past compression
-    // cannot push apart particles that are no longer compressed (increments are >= 0: a
-    // stiffness can only grow within a step).
-#pragma omp for schedule(static)
-    for (std::ptrdiff_t f = 0; f < fluid_count; ++f) {
-      const std::uint32_t i = fluid[f];
-      const bool keep = warm && increment[i] > 0.0;
-      stiffness[i] = keep ? settings.warm_start_fraction * stiffness[i] : 0.0;
-      if (warm) {  // the warm start is this correction; the increments are predicted again after it
-        s[i] = keep ? stiffness[i] / density[i] : 0.0;
-        increment[i] = 0.0;
-      }
-    }
+    double error = predict(arrays, density, w, settle);
+    start_stiffness(arrays, density, settings, stiffness);
     if (warm) {
-      correct();
-      error = predict();
+      correct(arrays, dt, stiffness);
+      error = predict(arrays, density, w, settle);
     }
     const double initial_error = error;
     long long iterations = 0;  // every thread runs the same loop on the same error
     while (iterations < settings.max_iterations && (iterations < settings.min_iterations || error > settings.tolerance)) {
-      correct();
-      error = predict();
+      correct(arrays, dt, stiffness);
+      error = predict(arrays, density, w, settle);
       ++iterations;
     }
 #pragma omp single
@@ -184,7 +231,9 @@ SolverOutcome iterate(ParticleSet& particles, const SphSystem& system, const std
       outcome.initial_error = initial_error;
       outcome.error = error;
       outcome.converged = error <= settings.tolerance;
-      for (std::ptrdiff_t f = 0; f < fluid_count; ++f) particles.velocity[fluid[f]] = velocity[fluid[f]];
+      for (std::ptrdiff_t f = 0; f < arrays.fluid_count; ++f) {
+        particles.velocity[arrays.fluid[f]] = arrays.velocity[arrays.fluid[f]];
+      }
     }
   }
   return outcome;

@@ -93,10 +93,8 @@ class IsphMethod final : public Method {
     // "auto": AMG from amg_min_fluid_particles on (docs/performance.md: at 741 fluid particles
     // the diagonal preconditioner is 1.3x faster, at 4851 AMG is 1.5x faster), decided once per
     // run from the initial particles, so a restored checkpoint decides the same.
-    settings_.preconditioner = preconditioner_from_name(
-        preconditioner_choice_ != "auto" ? preconditioner_choice_
-        : particles.count(ParticleType::Fluid) >= amg_min_fluid_particles_ ? "amg"
-                                                                            : "diagonal");
+    settings_.preconditioner = choose_preconditioner(preconditioner_choice_, particles.count(ParticleType::Fluid),
+                                                     amg_min_fluid_particles_);
     acceleration_.assign(n, Vec2::Zero());
     predicted_velocity_.assign(n, Vec2::Zero());
     source_.assign(n, 0.0);
@@ -121,124 +119,18 @@ class IsphMethod final : public Method {
   }
 
   StepReport step(ParticleSet& particles, double dt) override {
-    const std::size_t n = particles.size();
-    const auto count = static_cast<std::ptrdiff_t>(n);
     WallContext context{particles, &neighbours_, dt, scene_};
     context.samples = &samples_;
     context.support = kernel_.support();
-    auto& density = particles.field("density");
-    auto& free_surface = particles.field("free_surface");
-    auto& divergence = particles.field("velocity_divergence");
-    const Vec2 gravity = scene_.physics.gravity;
-
-    if (position_update_ == PositionUpdate::Trapezoidal) {
-      start_position_ = particles.position;
-      start_velocity_ = particles.velocity;
-    }
-
-    // --- predictor (Shao & Lo 2003: u* = u^n + dt (g + nu lap u^n)) ---------------------------
-    // Neighbours: the list of the last search (at r* of the previous step), as in mps.
-    {
-      const auto timed = measure(timers_, operators_phase_);
-#pragma omp parallel for schedule(static)
-      for (std::ptrdiff_t i = 0; i < count; ++i) {
-        acceleration_[i] = particles.type[i] == ParticleType::Fluid ? gravity : Vec2::Zero();
-      }
-      if (scene_.physics.kinematic_viscosity > 0.0) {
-        add_viscous_acceleration(particles, neighbours_, samples_, kernel_, mass_, operator_density(density),
-                                 rest_density_, scene_.physics.kinematic_viscosity, eta2_, acceleration_);
-      }
-    }
-    {
-      const auto timed = measure(timers_, integration_phase_);
-#pragma omp parallel for schedule(static)
-      for (std::ptrdiff_t i = 0; i < count; ++i) {
-        if (particles.type[i] == ParticleType::Fluid) particles.velocity[i] += dt * acceleration_[i];
-      }
-    }
-    walls_.after_explicit_velocity(context);
-    {
-      const auto timed = measure(timers_, integration_phase_);
-#pragma omp parallel for schedule(static)
-      for (std::ptrdiff_t i = 0; i < count; ++i) {
-        if (particles.type[i] == ParticleType::Fluid) particles.position[i] += dt * particles.velocity[i];
-      }
-      fix_walls(particles);
-    }
-    walls_.after_explicit_position(context);
-
+    predict(particles, dt, context);
     // --- projection at r* ------------------------------------------------------------------
     search(particles, context);  // and the wall samples at r*
     walls_.after_neighbour_search(context);
     // rho is density itself (summation) or rho0 everywhere: it can be bound before rho* is summed.
-    const std::vector<double>& rho = operator_density(density);
-    {
-      const auto timed = measure(timers_, operators_phase_);
-      summation_density(particles, neighbours_, samples_, kernel_, mass_, rest_density_, density);  // rho*
-      detect_free_surface(particles, density, rho, free_surface);
-
-      // Predicted velocities for div u*: fluid u*; a wall gets dt g, the velocity the body force
-      // alone would give it, which its pressure (Adami eq. 27: grad p = rho g inside the wall)
-      // then removes. Hence fluid at rest has div u* = 0 next to a wall as in the interior, and
-      // only motion relative to the wall is a source (consistent with the wall rows of the PPE).
-#pragma omp parallel for schedule(static)
-      for (std::ptrdiff_t i = 0; i < count; ++i) {
-        predicted_velocity_[i] = particles.type[i] == ParticleType::Fluid  ? particles.velocity[i]
-                                 : particles.type[i] == ParticleType::Wall ? Vec2(dt * gravity)
-                                                                           : Vec2::Zero();
-      }
-      // Wall samples likewise: u*_w = dt g + M_w (u*_s - dt g): a fixed wall point has dt g, a
-      // mirror image the mirrored motion of its source relative to that (docs/methods/isph.md,
-      // "Wall boundary models": with u*_w = M_w u*_s the hydrostatic head is counted twice).
-      velocity_divergence(particles, neighbours_, samples_, kernel_, mass_, rho, predicted_velocity_, Vec2(dt * gravity),
-                          divergence);
-      compute_source(particles, density, divergence, dt);
-    }
-
-    PressureSolveResult solve;
-    {
-      const auto timed = measure(timers_, assembly_phase_);
-      solve = ppe_.assemble(particles, neighbours_, samples_, kernel_, rho, free_surface, source_, settings_);
-    }
-    {
-      const auto timed = measure(timers_, solve_phase_);
-      ppe_.solve_assembled(particles, settings_, solve);
-      if (clamp_negative_pressure_) {
-#pragma omp parallel for schedule(static)
-        for (std::ptrdiff_t i = 0; i < count; ++i) {
-          particles.pressure[i] = std::max(particles.pressure[i], 0.0);
-        }
-      }
-    }
-    if (!solve.converged) ++nonconverged_solves_;
-
-    // --- correction ------------------------------------------------------------------------
-    {
-      const auto timed = measure(timers_, operators_phase_);
-      pressure_acceleration(particles, neighbours_, samples_, {rest_density_, gravity, clamp_negative_pressure_},
-                            kernel_, mass_, rho, free_surface, gradient_form_, acceleration_);
-    }
-    {
-      const auto timed = measure(timers_, integration_phase_);
-#pragma omp parallel for schedule(static)
-      for (std::ptrdiff_t i = 0; i < count; ++i) {
-        if (particles.type[i] != ParticleType::Fluid) continue;
-        particles.velocity[i] += dt * acceleration_[i];  // u^{n+1} = u* - dt grad p / rho
-        if (position_update_ == PositionUpdate::SemiImplicit) {
-          particles.position[i] += dt * (dt * acceleration_[i]);  // r^{n+1} = r* + dt (u^{n+1} - u*)
-        } else {
-          // Shao & Lo (2003): r^{n+1} = r^n + dt (u^n + u^{n+1}) / 2
-          particles.position[i] = start_position_[i] + 0.5 * dt * (start_velocity_[i] + particles.velocity[i]);
-        }
-      }
-      fix_walls(particles);
-    }
-    walls_.after_correction(context);
-    {
-      const auto timed = measure(timers_, integration_phase_);
-      ghosts_ += mark_escaped_as_ghosts(particles, scene_);
-    }
-
+    const std::vector<double>& rho = operator_density(particles.field("density"));
+    projection_source(particles, rho, dt);
+    const PressureSolveResult solve = solve_pressure(particles, rho);
+    correct(particles, rho, dt, context);
     total_iterations_ += solve.iterations;
     clock_.advance(dt);
     ungrounded_groups_ += solve.ungrounded_groups;
@@ -256,9 +148,7 @@ class IsphMethod final : public Method {
         {"nominal_mass_rho0_l0_squared", rest_density_ * l0 * l0},
         {"wall_treatments", walls_.names()},
         {"boundary_model", walls_.boundary_name()},
-        {"preconditioner", settings_.preconditioner == PreconditionerKind::Amg            ? "amg"
-                           : settings_.preconditioner == PreconditionerKind::IncompleteLu ? "incomplete_lu"
-                                                                                          : "diagonal"},
+        {"preconditioner", preconditioner_name(settings_.preconditioner)},
         {"mean_iterations", clock_.steps() > 0 ? static_cast<double>(total_iterations_) / static_cast<double>(clock_.steps()) : 0.0},
         {"nonconverged_solves", nonconverged_solves_},
         {"time_step", clock_.summary(time_step_settings_)},
@@ -300,6 +190,135 @@ class IsphMethod final : public Method {
   }
 
  private:
+  // The predictor (Shao & Lo 2003: u* = u^n + dt (g + nu lap u^n)), r* = r^n + dt u*, with the
+  // wall hooks after the velocity and the position. Neighbours: the list of the last search
+  // (at r* of the previous step), as in mps.
+  void predict(ParticleSet& particles, double dt, WallContext& context) {
+    const auto count = static_cast<std::ptrdiff_t>(particles.size());
+    const auto& density = particles.field("density");
+    const Vec2 gravity = scene_.physics.gravity;
+    if (position_update_ == PositionUpdate::Trapezoidal) {
+      start_position_ = particles.position;
+      start_velocity_ = particles.velocity;
+    }
+
+    {
+      const auto timed = measure(timers_, operators_phase_);
+#pragma omp parallel for schedule(static)
+      for (std::ptrdiff_t i = 0; i < count; ++i) {
+        acceleration_[i] = particles.type[i] == ParticleType::Fluid ? gravity : Vec2::Zero();
+      }
+      if (scene_.physics.kinematic_viscosity > 0.0) {
+        add_viscous_acceleration(particles, neighbours_, samples_, kernel_, mass_, operator_density(density),
+                                 rest_density_, scene_.physics.kinematic_viscosity, eta2_, acceleration_);
+      }
+    }
+    {
+      const auto timed = measure(timers_, integration_phase_);
+#pragma omp parallel for schedule(static)
+      for (std::ptrdiff_t i = 0; i < count; ++i) {
+        if (particles.type[i] == ParticleType::Fluid) particles.velocity[i] += dt * acceleration_[i];
+      }
+    }
+    walls_.after_explicit_velocity(context);
+    {
+      const auto timed = measure(timers_, integration_phase_);
+#pragma omp parallel for schedule(static)
+      for (std::ptrdiff_t i = 0; i < count; ++i) {
+        if (particles.type[i] == ParticleType::Fluid) particles.position[i] += dt * particles.velocity[i];
+      }
+      fix_walls(particles);
+    }
+    walls_.after_explicit_position(context);
+  }
+
+  // rho* by summation, the free surface, div u* and the source term of the PPE.
+  void projection_source(ParticleSet& particles, const std::vector<double>& rho, double dt) {
+    const auto count = static_cast<std::ptrdiff_t>(particles.size());
+    auto& density = particles.field("density");
+    auto& free_surface = particles.field("free_surface");
+    auto& divergence = particles.field("velocity_divergence");
+    const Vec2 gravity = scene_.physics.gravity;
+    {
+      const auto timed = measure(timers_, operators_phase_);
+      summation_density(particles, neighbours_, samples_, kernel_, mass_, rest_density_, density);  // rho*
+      detect_free_surface(particles, density, rho, free_surface);
+
+      // Predicted velocities for div u*: fluid u*; a wall gets dt g, the velocity the body force
+      // alone would give it, which its pressure (Adami eq. 27: grad p = rho g inside the wall)
+      // then removes. Hence fluid at rest has div u* = 0 next to a wall as in the interior, and
+      // only motion relative to the wall is a source (consistent with the wall rows of the PPE).
+#pragma omp parallel for schedule(static)
+      for (std::ptrdiff_t i = 0; i < count; ++i) {
+        predicted_velocity_[i] = particles.type[i] == ParticleType::Fluid  ? particles.velocity[i]
+                                 : particles.type[i] == ParticleType::Wall ? Vec2(dt * gravity)
+                                                                           : Vec2::Zero();
+      }
+      // Wall samples likewise: u*_w = dt g + M_w (u*_s - dt g): a fixed wall point has dt g, a
+      // mirror image the mirrored motion of its source relative to that (docs/methods/isph.md,
+      // "Wall boundary models": with u*_w = M_w u*_s the hydrostatic head is counted twice).
+      velocity_divergence(particles, neighbours_, samples_, kernel_, mass_, rho, predicted_velocity_, Vec2(dt * gravity),
+                          divergence);
+      compute_source(particles, density, divergence, dt);
+    }
+  }
+
+  // The PPE assembled and solved; negative pressures clamped when asked.
+  PressureSolveResult solve_pressure(ParticleSet& particles, const std::vector<double>& rho) {
+    const auto count = static_cast<std::ptrdiff_t>(particles.size());
+    const auto& free_surface = particles.field("free_surface");
+    PressureSolveResult solve;
+    {
+      const auto timed = measure(timers_, assembly_phase_);
+      solve = ppe_.assemble(particles, neighbours_, samples_, kernel_, rho, free_surface, source_, settings_);
+    }
+    {
+      const auto timed = measure(timers_, solve_phase_);
+      ppe_.solve_assembled(particles, settings_, solve);
+      if (clamp_negative_pressure_) {
+#pragma omp parallel for schedule(static)
+        for (std::ptrdiff_t i = 0; i < count; ++i) {
+          particles.pressure[i] = std::max(particles.pressure[i], 0.0);
+        }
+      }
+    }
+    if (!solve.converged) ++nonconverged_solves_;
+    return solve;
+  }
+
+  // u^{n+1} = u* - dt grad p / rho, r^{n+1} semi-implicit or trapezoidal, the wall hook after
+  // the correction, escaped particles to ghosts.
+  void correct(ParticleSet& particles, const std::vector<double>& rho, double dt, WallContext& context) {
+    const auto count = static_cast<std::ptrdiff_t>(particles.size());
+    const auto& free_surface = particles.field("free_surface");
+    const Vec2 gravity = scene_.physics.gravity;
+    {
+      const auto timed = measure(timers_, operators_phase_);
+      pressure_acceleration(particles, neighbours_, samples_, {rest_density_, gravity, clamp_negative_pressure_},
+                            kernel_, mass_, rho, free_surface, gradient_form_, acceleration_);
+    }
+    {
+      const auto timed = measure(timers_, integration_phase_);
+#pragma omp parallel for schedule(static)
+      for (std::ptrdiff_t i = 0; i < count; ++i) {
+        if (particles.type[i] != ParticleType::Fluid) continue;
+        particles.velocity[i] += dt * acceleration_[i];  // u^{n+1} = u* - dt grad p / rho
+        if (position_update_ == PositionUpdate::SemiImplicit) {
+          particles.position[i] += dt * (dt * acceleration_[i]);  // r^{n+1} = r* + dt (u^{n+1} - u*)
+        } else {
+          // Shao & Lo (2003): r^{n+1} = r^n + dt (u^n + u^{n+1}) / 2
+          particles.position[i] = start_position_[i] + 0.5 * dt * (start_velocity_[i] + particles.velocity[i]);
+        }
+      }
+      fix_walls(particles);
+    }
+    walls_.after_correction(context);
+    {
+      const auto timed = measure(timers_, integration_phase_);
+      ghosts_ += mark_escaped_as_ghosts(particles, scene_);
+    }
+  }
+
   // Neighbours within the kernel support, then the boundary model's wall samples within it
   // (none for wall particles), handed to the wall treatments in `context`.
   void search(const ParticleSet& particles, WallContext& context) {
@@ -486,10 +505,10 @@ void mps_lab_register_method_isph(mps_lab::MethodRegistry& registry) {
       boolean_parameter("clamp_negative_pressure", true,
                         "set p < 0 to 0 after the solve, fluid and wall (against the tensile instability)"),
       string_parameter("preconditioner", "auto",
-                       "BiCGSTAB preconditioner; auto: amg from amg_min_fluid_particles fluid particles on, diagonal below")
-          .one_of({"auto", "diagonal", "incomplete_lu", "amg"}),
+                       "BiCGSTAB preconditioner (incomplete_factorisation: ILU(0)); auto: amg from amg_min_fluid_particles fluid particles on, jacobi below")
+          .one_of(preconditioner_choices()),
       integer_parameter("amg_min_fluid_particles", 2000,
-                        "preconditioner auto: the fluid particle count from which AMG beats the diagonal one (measured)")
+                        "preconditioner auto: the fluid particle count from which AMG beats Jacobi (measured)")
           .at_least(0),
       number_parameter("solver_tolerance", 1.0e-8, "", "BiCGSTAB stops at ||b - A p|| / ||b|| below this (rows in Pa)")
           .above(0.0)

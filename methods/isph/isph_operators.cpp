@@ -7,6 +7,8 @@
 
 #include <Eigen/LU>
 
+#include "core/search/for_each_neighbour.hpp"
+
 namespace mps_lab::isph {
 
 namespace {
@@ -22,7 +24,6 @@ void summation_density(const ParticleSet& particles, const NeighbourList& neighb
   const auto n = static_cast<std::ptrdiff_t>(particles.size());
   density.resize(particles.size());
   const double self = kernel.value(0.0);
-  const bool with_samples = samples.has_samples();
 #pragma omp parallel for schedule(static)
   for (std::ptrdiff_t i = 0; i < n; ++i) {
     if (particles.type[i] != ParticleType::Fluid) {
@@ -30,17 +31,13 @@ void summation_density(const ParticleSet& particles, const NeighbourList& neighb
       continue;
     }
     double sum = self;
-    for (std::uint32_t k = neighbours.begin(i); k < neighbours.end(i); ++k) {
-      const std::uint32_t j = neighbours.indices[k];
-      if (particles.type[j] == ParticleType::Ghost) continue;
+    for_each_neighbour(neighbours, i, [&](std::uint32_t j) {
+      if (particles.type[j] == ParticleType::Ghost) return;
       sum += kernel.value((particles.position[i] - particles.position[j]).norm());
-    }
-    if (with_samples) {
-      for (std::uint32_t k = samples.begin(i); k < samples.end(i); ++k) {
-        const WallSample& wall = samples.samples[k];
-        sum += wall.volume * kernel.value((particles.position[i] - wall.position).norm());  // mass m V_w
-      }
-    }
+    });
+    for_each_neighbour(samples, i, [&](const WallSample& wall) {
+      sum += wall.volume * kernel.value((particles.position[i] - wall.position).norm());  // mass m V_w
+    });
     density[i] = mass * sum;  // rho_i = sum_j m_j W_ij (Monaghan 1992, summation density)
   }
 }
@@ -50,27 +47,22 @@ void ppe_laplacian(const ParticleSet& particles, const NeighbourList& neighbours
                    const Vec2& head, double eta2, const std::vector<double>& values, std::vector<double>& out) {
   const auto n = static_cast<std::ptrdiff_t>(particles.size());
   out.assign(particles.size(), 0.0);
-  const bool with_samples = samples.has_samples();
 #pragma omp parallel for schedule(static)
   for (std::ptrdiff_t i = 0; i < n; ++i) {
     if (particles.type[i] != ParticleType::Fluid) continue;
     double sum = 0.0;
-    for (std::uint32_t k = neighbours.begin(i); k < neighbours.end(i); ++k) {
-      const std::uint32_t j = neighbours.indices[k];
-      if (particles.type[j] == ParticleType::Ghost) continue;
+    for_each_neighbour(neighbours, i, [&](std::uint32_t j) {
+      if (particles.type[j] == ParticleType::Ghost) return;
       const double factor = laplacian_pair_factor(kernel, particles.position[i] - particles.position[j], eta2);
       // Cummins & Rudman (1999) / Shao & Lo (2003): sum_j m 8/(rho_i+rho_j)^2 (p_i - p_j) F_ij
       sum += ppe_pair_coefficient(mass, density[i], density[j], factor) * (values[j] - values[i]);
-    }
-    if (with_samples) {
-      for (std::uint32_t k = samples.begin(i); k < samples.end(i); ++k) {
-        const WallSample& wall = samples.samples[k];
-        if (particles.type[wall.source] == ParticleType::Ghost) continue;
-        const double factor = laplacian_pair_factor(kernel, particles.position[i] - wall.position, eta2);
-        const double value = values[wall.source] + head.dot(wall.position - particles.position[wall.source]);
-        sum += ppe_pair_coefficient(mass * wall.volume, density[i], rest_density, factor) * (value - values[i]);
-      }
-    }
+    });
+    for_each_neighbour(samples, i, [&](const WallSample& wall) {
+      if (particles.type[wall.source] == ParticleType::Ghost) return;
+      const double factor = laplacian_pair_factor(kernel, particles.position[i] - wall.position, eta2);
+      const double value = values[wall.source] + head.dot(wall.position - particles.position[wall.source]);
+      sum += ppe_pair_coefficient(mass * wall.volume, density[i], rest_density, factor) * (value - values[i]);
+    });
     out[i] = sum;
   }
 }
@@ -80,29 +72,24 @@ void add_viscous_acceleration(const ParticleSet& particles, const NeighbourList&
                               const std::vector<double>& density, double rest_density, double kinematic_viscosity,
                               double eta2, std::vector<Vec2>& acceleration) {
   const auto n = static_cast<std::ptrdiff_t>(particles.size());
-  const bool with_samples = samples.has_samples();
 #pragma omp parallel for schedule(static)
   for (std::ptrdiff_t i = 0; i < n; ++i) {
     if (particles.type[i] != ParticleType::Fluid) continue;
     Vec2 sum = Vec2::Zero();
-    for (std::uint32_t k = neighbours.begin(i); k < neighbours.end(i); ++k) {
-      const std::uint32_t j = neighbours.indices[k];
-      if (particles.type[j] == ParticleType::Ghost) continue;
+    for_each_neighbour(neighbours, i, [&](std::uint32_t j) {
+      if (particles.type[j] == ParticleType::Ghost) return;
       const double factor = laplacian_pair_factor(kernel, particles.position[i] - particles.position[j], eta2);
       const Vec2 u_j = particles.type[j] == ParticleType::Wall ? Vec2::Zero() : particles.velocity[j];
       // Morris et al. (1997) viscous term, mu = rho nu: m (mu_i + mu_j)/(rho_i rho_j) F_ij (u_i - u_j)
       sum += mass * (density[i] + density[j]) / (density[i] * density[j]) * factor * (particles.velocity[i] - u_j);
-    }
-    if (with_samples) {
-      for (std::uint32_t k = samples.begin(i); k < samples.end(i); ++k) {
-        const WallSample& wall = samples.samples[k];
-        if (particles.type[wall.source] == ParticleType::Ghost) continue;
-        const double factor = laplacian_pair_factor(kernel, particles.position[i] - wall.position, eta2);
-        const Vec2 u_w = sample_velocity(wall, particles.velocity);
-        sum += mass * wall.volume * (density[i] + rest_density) / (density[i] * rest_density) * factor *
-               (particles.velocity[i] - u_w);
-      }
-    }
+    });
+    for_each_neighbour(samples, i, [&](const WallSample& wall) {
+      if (particles.type[wall.source] == ParticleType::Ghost) return;
+      const double factor = laplacian_pair_factor(kernel, particles.position[i] - wall.position, eta2);
+      const Vec2 u_w = sample_velocity(wall, particles.velocity);
+      sum += mass * wall.volume * (density[i] + rest_density) / (density[i] * rest_density) * factor *
+             (particles.velocity[i] - u_w);
+    });
     acceleration[i] += kinematic_viscosity * sum;
   }
 }
@@ -113,25 +100,20 @@ void velocity_divergence(const ParticleSet& particles, const NeighbourList& neig
                          std::vector<double>& out) {
   const auto n = static_cast<std::ptrdiff_t>(particles.size());
   out.assign(particles.size(), 0.0);
-  const bool with_samples = samples.has_samples();
 #pragma omp parallel for schedule(static)
   for (std::ptrdiff_t i = 0; i < n; ++i) {
     if (particles.type[i] != ParticleType::Fluid) continue;
     double sum = 0.0;
-    for (std::uint32_t k = neighbours.begin(i); k < neighbours.end(i); ++k) {
-      const std::uint32_t j = neighbours.indices[k];
-      if (particles.type[j] == ParticleType::Ghost) continue;
+    for_each_neighbour(neighbours, i, [&](std::uint32_t j) {
+      if (particles.type[j] == ParticleType::Ghost) return;
       // div u_i = (1/rho_i) sum_j m (u_j - u_i) . grad W_ij (Monaghan 1992; Cummins & Rudman 1999)
       sum += mass * (velocity[j] - velocity[i]).dot(kernel.gradient(particles.position[i] - particles.position[j]));
-    }
-    if (with_samples) {
-      for (std::uint32_t k = samples.begin(i); k < samples.end(i); ++k) {
-        const WallSample& wall = samples.samples[k];
-        if (particles.type[wall.source] == ParticleType::Ghost) continue;
-        const Vec2 u_w = sample_base_velocity + wall.velocity_map * (velocity[wall.source] - sample_base_velocity);
-        sum += mass * wall.volume * (u_w - velocity[i]).dot(kernel.gradient(particles.position[i] - wall.position));
-      }
-    }
+    });
+    for_each_neighbour(samples, i, [&](const WallSample& wall) {
+      if (particles.type[wall.source] == ParticleType::Ghost) return;
+      const Vec2 u_w = sample_base_velocity + wall.velocity_map * (velocity[wall.source] - sample_base_velocity);
+      sum += mass * wall.volume * (u_w - velocity[i]).dot(kernel.gradient(particles.position[i] - wall.position));
+    });
     out[i] = sum / density[i];
   }
 }
@@ -141,25 +123,20 @@ void position_divergence(const ParticleSet& particles, const NeighbourList& neig
                          double rest_density, std::vector<double>& out) {
   const auto n = static_cast<std::ptrdiff_t>(particles.size());
   out.assign(particles.size(), 0.0);
-  const bool with_samples = samples.has_samples();
 #pragma omp parallel for schedule(static)
   for (std::ptrdiff_t i = 0; i < n; ++i) {
     if (particles.type[i] != ParticleType::Fluid) continue;
     double sum = 0.0;
-    for (std::uint32_t k = neighbours.begin(i); k < neighbours.end(i); ++k) {
-      const std::uint32_t j = neighbours.indices[k];
-      if (particles.type[j] == ParticleType::Ghost) continue;
+    for_each_neighbour(neighbours, i, [&](std::uint32_t j) {
+      if (particles.type[j] == ParticleType::Ghost) return;
       const Vec2 r_ij = particles.position[i] - particles.position[j];
       // div r_i = -sum_j (m/rho_j) r_ij . grad W_ij (Lee et al. 2008)
       sum -= mass / density[j] * r_ij.dot(kernel.gradient(r_ij));
-    }
-    if (with_samples) {
-      for (std::uint32_t k = samples.begin(i); k < samples.end(i); ++k) {
-        const WallSample& wall = samples.samples[k];
-        const Vec2 r_iw = particles.position[i] - wall.position;
-        sum -= mass * wall.volume / rest_density * r_iw.dot(kernel.gradient(r_iw));
-      }
-    }
+    });
+    for_each_neighbour(samples, i, [&](const WallSample& wall) {
+      const Vec2 r_iw = particles.position[i] - wall.position;
+      sum -= mass * wall.volume / rest_density * r_iw.dot(kernel.gradient(r_iw));
+    });
     out[i] = sum;
   }
 }
@@ -180,7 +157,6 @@ void pressure_acceleration(const ParticleSet& particles, const NeighbourList& ne
                            std::vector<Vec2>& acceleration) {
   const auto n = static_cast<std::ptrdiff_t>(particles.size());
   acceleration.resize(particles.size());
-  const bool with_samples = samples.has_samples();
   const double rho_w = sample_rule.rest_density;
 #pragma omp parallel for schedule(static)
   for (std::ptrdiff_t i = 0; i < n; ++i) {
@@ -193,9 +169,8 @@ void pressure_acceleration(const ParticleSet& particles, const NeighbourList& ne
     const double rho_i = density[i];
     Vec2 sum = Vec2::Zero();                           // grad p_i / rho_i, m/s^2
     Eigen::Matrix2d moment = Eigen::Matrix2d::Zero();  // sum_j V_j grad W_ij (x_j - x_i)^T
-    for (std::uint32_t k = neighbours.begin(i); k < neighbours.end(i); ++k) {
-      const std::uint32_t j = neighbours.indices[k];
-      if (particles.type[j] == ParticleType::Ghost) continue;
+    for_each_neighbour(neighbours, i, [&](std::uint32_t j) {
+      if (particles.type[j] == ParticleType::Ghost) return;
       const Vec2 r_ij = particles.position[i] - particles.position[j];
       const Vec2 gradient = kernel.gradient(r_ij);
       const double p_j = particles.pressure[j];
@@ -207,25 +182,22 @@ void pressure_acceleration(const ParticleSet& particles, const NeighbourList& ne
         sum += mass / (rho_i * density[j]) * (p_j - p_i) * gradient;
         moment -= mass / density[j] * gradient * r_ij.transpose();
       }
-    }
-    if (with_samples) {
-      // Wall samples: particles of mass m V_w, density rho0, pressure p_s + rho0 g . (x_w - x_s).
-      for (std::uint32_t k = samples.begin(i); k < samples.end(i); ++k) {
-        const WallSample& wall = samples.samples[k];
-        if (particles.type[wall.source] == ParticleType::Ghost) continue;
-        const Vec2 r_iw = particles.position[i] - wall.position;
-        const Vec2 gradient = kernel.gradient(r_iw);
-        double p_w = sample_pressure(wall, particles.pressure, particles.position, rho_w, sample_rule.gravity);
-        if (sample_rule.clamp_negative) p_w = std::max(p_w, 0.0);
-        const double m_w = mass * wall.volume;
-        if (symmetric) {
-          sum += m_w * (p_i / (rho_i * rho_i) + p_w / (rho_w * rho_w)) * gradient;
-        } else {
-          sum += m_w / (rho_i * rho_w) * (p_w - p_i) * gradient;
-          moment -= m_w / rho_w * gradient * r_iw.transpose();
-        }
+    });
+    // Wall samples: particles of mass m V_w, density rho0, pressure p_s + rho0 g . (x_w - x_s).
+    for_each_neighbour(samples, i, [&](const WallSample& wall) {
+      if (particles.type[wall.source] == ParticleType::Ghost) return;
+      const Vec2 r_iw = particles.position[i] - wall.position;
+      const Vec2 gradient = kernel.gradient(r_iw);
+      double p_w = sample_pressure(wall, particles.pressure, particles.position, rho_w, sample_rule.gravity);
+      if (sample_rule.clamp_negative) p_w = std::max(p_w, 0.0);
+      const double m_w = mass * wall.volume;
+      if (symmetric) {
+        sum += m_w * (p_i / (rho_i * rho_i) + p_w / (rho_w * rho_w)) * gradient;
+      } else {
+        sum += m_w / (rho_i * rho_w) * (p_w - p_i) * gradient;
+        moment -= m_w / rho_w * gradient * r_iw.transpose();
       }
-    }
+    });
     if (corrected && std::fabs(moment.determinant()) > kMinimumMomentDeterminant) {
       // Bonet & Lok (1999) renormalisation: grad p_i = L_i sum_j V_j (p_j - p_i) grad W_ij, L_i = moment^-1
       sum = moment.inverse() * sum;

@@ -1,36 +1,107 @@
 #include "methods/isph/isph_pressure.hpp"
 
 #include <cmath>
-#include <stdexcept>
 
-#include "core/linalg/amg.hpp"
 #include "core/linalg/pressure_system.hpp"
+#include "core/search/for_each_neighbour.hpp"
 #include "methods/isph/isph_operators.hpp"
 
 namespace mps_lab::isph {
 
-namespace {
-
-// The row blocks of the incomplete-LU preconditioner: fixed (not the thread count), so that
-// the result does not depend on it; two blocks let two threads factor and solve at once.
-constexpr int kIncompleteLuBlocks = 2;
-
-std::unique_ptr<Preconditioner> make_preconditioner(PreconditionerKind kind) {
-  if (kind == PreconditionerKind::IncompleteLu) return std::make_unique<IncompleteLuPreconditioner>(kIncompleteLuBlocks);
-  if (kind == PreconditionerKind::Amg) return std::make_unique<AmgPreconditioner>();  // core/linalg/amg.hpp
-  return std::make_unique<JacobiPreconditioner>();
-}
-
-}  // namespace
-
-PreconditionerKind preconditioner_from_name(const std::string& name) {
-  if (name == "diagonal") return PreconditionerKind::Diagonal;
-  if (name == "incomplete_lu") return PreconditionerKind::IncompleteLu;
-  if (name == "amg") return PreconditionerKind::Amg;
-  throw std::invalid_argument("unknown preconditioner '" + name + "' (expected diagonal, incomplete_lu or amg)");
-}
-
 Eigen::SparseMatrix<double, Eigen::RowMajor> PressurePoissonSolver::matrix() const { return to_eigen(matrix_); }
+
+// Fluid row `row` (particle i): Cummins & Rudman (1999) / Shao & Lo (2003), with the wall
+// samples' terms; sets the diagonal and b_i. Returns whether it touches a Dirichlet particle.
+bool PressurePoissonSolver::fluid_row(const RowInputs& in, int row, std::size_t i, CsrAssembler::RowWriter& writer) {
+  const ParticleSet& particles = in.particles;
+  const SphKernel& kernel = in.kernel;
+  const std::vector<double>& density = in.density;
+  const PressureSolveSettings& settings = in.settings;
+  const NeighbourList& neighbours = in.neighbours;
+  const WallSampleList& samples = in.samples;
+  const std::vector<double>& source = in.source;
+  const double fluid_scale = in.fluid_scale;
+  const bool with_samples = samples.has_samples();
+  bool grounded = false;
+  // Cummins & Rudman (1999) / Shao & Lo (2003) Laplacian: sum_j a_ij (p_i - p_j) = -S_i
+  double diagonal = 0.0;
+  for_each_neighbour(neighbours, i, [&](std::uint32_t j) {
+    if (particles.type[j] == ParticleType::Ghost) return;
+    const double factor =
+        laplacian_pair_factor(kernel, particles.position[i] - particles.position[j], settings.eta2);
+    const double a = fluid_scale * ppe_pair_coefficient(settings.mass, density[i], density[j], factor);
+    if (a == 0.0) return;
+    diagonal += a;
+    if (row_of_[j] >= 0) {
+      writer.add(row_of_[j], -a);
+    } else {
+      grounded = true;  // a surface neighbour, p = 0
+    }
+  });
+  // Wall samples: a_iw (p_i - p_s - rho0 g . (x_w - x_s)); the hydrostatic part is known.
+  double wall_head = 0.0;  // sum_w a_iw rho0 g . (x_w - x_s), Pa
+  for_each_neighbour(samples, i, [&](const WallSample& wall) {
+    const std::uint32_t s = wall.source;
+    if (particles.type[s] == ParticleType::Ghost) return;
+    const double factor = laplacian_pair_factor(kernel, particles.position[i] - wall.position, settings.eta2);
+    const double a = fluid_scale * ppe_pair_coefficient(settings.mass * wall.volume, density[i],
+                                                        settings.rest_density, factor);
+    if (a == 0.0) return;
+    wall_head +=
+        a * sample_pressure_offset(wall, particles.position, settings.rest_density, settings.gravity);
+    if (s == i) return;  // p_w - p_i = the hydrostatic part alone
+    diagonal += a;
+    if (row_of_[s] >= 0) {
+      writer.add(row_of_[s], -a);
+    } else {
+      grounded = true;  // the image of a surface particle, p_s = 0
+    }
+  });
+  if (diagonal == 0.0) {  // no neighbour within the support: p = 0
+    diagonal = 1.0;
+    grounded = true;
+    rhs_[static_cast<std::size_t>(row)] = 0.0;
+  } else {
+    rhs_[static_cast<std::size_t>(row)] = -fluid_scale * source[i] + (with_samples ? wall_head : 0.0);
+  }
+  writer.value(0) = diagonal;
+  return grounded;
+}
+
+// Wall row `row` (wall particle i): the kernel-weighted average of the fluid pressure around
+// it plus the hydrostatic head; sets the diagonal and b_w. Returns whether it touches a
+// Dirichlet particle.
+bool PressurePoissonSolver::wall_row(const RowInputs& in, int row, std::size_t i, CsrAssembler::RowWriter& writer) {
+  const ParticleSet& particles = in.particles;
+  const SphKernel& kernel = in.kernel;
+  const std::vector<double>& density = in.density;
+  const PressureSolveSettings& settings = in.settings;
+  const NeighbourList& neighbours = in.neighbours;
+  bool grounded = false;
+  // Adami, Hu & Adams (2012), eq. 27 with a_w = 0:
+  //   p_w = (sum_f p_f W_wf + g . sum_f rho_f (x_w - x_f) W_wf) / sum_f W_wf
+  double weight_sum = 0.0;
+  Vec2 head = Vec2::Zero();
+  for_each_neighbour(neighbours, i, [&](std::uint32_t f) {
+    if (particles.type[f] != ParticleType::Fluid) return;
+    weight_sum += kernel.value((particles.position[i] - particles.position[f]).norm());
+  });
+  for_each_neighbour(neighbours, i, [&](std::uint32_t f) {
+    if (particles.type[f] != ParticleType::Fluid) return;
+    const Vec2 between = particles.position[i] - particles.position[f];
+    const double w = kernel.value(between.norm()) / weight_sum;
+    if (w == 0.0) return;
+    head += density[f] * w * between;
+    if (row_of_[f] >= 0) {
+      writer.add(row_of_[f], -w);
+    } else {
+      grounded = true;  // a surface fluid neighbour, p = 0
+    }
+  });
+  writer.value(0) = 1.0;
+  rhs_[static_cast<std::size_t>(row)] = settings.gravity.dot(head);
+  return grounded;
+}
 
 void PressurePoissonSolver::assemble_rows(const ParticleSet& particles, const NeighbourList& neighbours,
                                           const WallSampleList& samples, const SphKernel& kernel,
@@ -41,6 +112,7 @@ void PressurePoissonSolver::assemble_rows(const ParticleSet& particles, const Ne
   rhs_.resize(static_cast<std::size_t>(unknowns));
   grounded_.assign(static_cast<std::size_t>(unknowns), 0);
   const bool with_samples = samples.has_samples();
+  const RowInputs in{particles, neighbours, samples, kernel, density, source, settings, fluid_scale};
   assembler_.start(unknowns, [&](int row) {
     const auto i = static_cast<std::size_t>(particle_of_[static_cast<std::size_t>(row)]);
     const std::uint32_t sample_count =
@@ -53,80 +125,8 @@ void PressurePoissonSolver::assemble_rows(const ParticleSet& particles, const Ne
     const auto i = static_cast<std::size_t>(particle_of_[static_cast<std::size_t>(row)]);
     auto writer = assembler_.row(row);
     writer.add(row, 0.0);  // the diagonal, set below
-    bool grounded = false;
-    if (particles.type[i] == ParticleType::Fluid) {
-      // Cummins & Rudman (1999) / Shao & Lo (2003) Laplacian: sum_j a_ij (p_i - p_j) = -S_i
-      double diagonal = 0.0;
-      for (std::uint32_t k = neighbours.begin(i); k < neighbours.end(i); ++k) {
-        const std::uint32_t j = neighbours.indices[k];
-        if (particles.type[j] == ParticleType::Ghost) continue;
-        const double factor =
-            laplacian_pair_factor(kernel, particles.position[i] - particles.position[j], settings.eta2);
-        const double a = fluid_scale * ppe_pair_coefficient(settings.mass, density[i], density[j], factor);
-        if (a == 0.0) continue;
-        diagonal += a;
-        if (row_of_[j] >= 0) {
-          writer.add(row_of_[j], -a);
-        } else {
-          grounded = true;  // a surface neighbour, p = 0
-        }
-      }
-      // Wall samples: a_iw (p_i - p_s - rho0 g . (x_w - x_s)); the hydrostatic part is known.
-      double wall_head = 0.0;  // sum_w a_iw rho0 g . (x_w - x_s), Pa
-      if (with_samples) {
-        for (std::uint32_t k = samples.begin(i); k < samples.end(i); ++k) {
-          const WallSample& wall = samples.samples[k];
-          const std::uint32_t s = wall.source;
-          if (particles.type[s] == ParticleType::Ghost) continue;
-          const double factor = laplacian_pair_factor(kernel, particles.position[i] - wall.position, settings.eta2);
-          const double a = fluid_scale * ppe_pair_coefficient(settings.mass * wall.volume, density[i],
-                                                              settings.rest_density, factor);
-          if (a == 0.0) continue;
-          wall_head +=
-              a * sample_pressure_offset(wall, particles.position, settings.rest_density, settings.gravity);
-          if (s == i) continue;  // p_w - p_i = the hydrostatic part alone
-          diagonal += a;
-          if (row_of_[s] >= 0) {
-            writer.add(row_of_[s], -a);
-          } else {
-            grounded = true;  // the image of a surface particle, p_s = 0
-          }
-        }
-      }
-      if (diagonal == 0.0) {  // no neighbour within the support: p = 0
-        diagonal = 1.0;
-        grounded = true;
-        rhs_[static_cast<std::size_t>(row)] = 0.0;
-      } else {
-        rhs_[static_cast<std::size_t>(row)] = -fluid_scale * source[i] + (with_samples ? wall_head : 0.0);
-      }
-      writer.value(0) = diagonal;
-    } else {
-      // Adami, Hu & Adams (2012), eq. 27 with a_w = 0:
-      //   p_w = (sum_f p_f W_wf + g . sum_f rho_f (x_w - x_f) W_wf) / sum_f W_wf
-      double weight_sum = 0.0;
-      Vec2 head = Vec2::Zero();
-      for (std::uint32_t k = neighbours.begin(i); k < neighbours.end(i); ++k) {
-        const std::uint32_t f = neighbours.indices[k];
-        if (particles.type[f] != ParticleType::Fluid) continue;
-        weight_sum += kernel.value((particles.position[i] - particles.position[f]).norm());
-      }
-      for (std::uint32_t k = neighbours.begin(i); k < neighbours.end(i); ++k) {
-        const std::uint32_t f = neighbours.indices[k];
-        if (particles.type[f] != ParticleType::Fluid) continue;
-        const Vec2 between = particles.position[i] - particles.position[f];
-        const double w = kernel.value(between.norm()) / weight_sum;
-        if (w == 0.0) continue;
-        head += density[f] * w * between;
-        if (row_of_[f] >= 0) {
-          writer.add(row_of_[f], -w);
-        } else {
-          grounded = true;  // a surface fluid neighbour, p = 0
-        }
-      }
-      writer.value(0) = 1.0;
-      rhs_[static_cast<std::size_t>(row)] = settings.gravity.dot(head);
-    }
+    const bool grounded = particles.type[i] == ParticleType::Fluid ? fluid_row(in, row, i, writer)
+                                                                   : wall_row(in, row, i, writer);
     writer.close();
     grounded_[static_cast<std::size_t>(row)] = grounded ? 1 : 0;
   }
@@ -158,11 +158,8 @@ PressureSolveResult PressurePoissonSolver::assemble(ParticleSet& particles, cons
   fluid_rows_ = result.fluid_unknowns;
   for (std::size_t i = 0; i < n; ++i) {
     if (particles.type[i] != ParticleType::Wall) continue;
-    bool sees_fluid = false;
-    for (std::uint32_t k = neighbours.begin(i); k < neighbours.end(i) && !sees_fluid; ++k) {
-      const std::uint32_t f = neighbours.indices[k];
-      sees_fluid = particles.type[f] == ParticleType::Fluid;
-    }
+    const bool sees_fluid =
+        any_neighbour(neighbours, i, [&](std::uint32_t f) { return particles.type[f] == ParticleType::Fluid; });
     if (!sees_fluid) continue;
     row_of_[i] = static_cast<int>(particle_of_.size());
     particle_of_.push_back(static_cast<int>(i));
@@ -186,29 +183,20 @@ PressureSolveResult PressurePoissonSolver::assemble(ParticleSet& particles, cons
 
 void PressurePoissonSolver::solve_assembled(ParticleSet& particles, const PressureSolveSettings& settings,
                                             PressureSolveResult& result) {
-  const int unknowns = matrix_.rows;
-  if (unknowns == 0) return;
-  if (!preconditioner_ || preconditioner_kind_ != settings.preconditioner) {
-    preconditioner_ = make_preconditioner(settings.preconditioner);
-    preconditioner_kind_ = settings.preconditioner;
-  }
-  preconditioner_->setup(matrix_);
-
-  gather_unknowns(particles.pressure, particle_of_, settings.warm_start, solution_);
-
   // BiCGSTAB until the recomputed residual ||b - A x|| / ||b|| is below the tolerance or the
   // iteration budget is spent (core/linalg/krylov.hpp restarts when the recurrence residual drifts).
-  KrylovSettings krylov;
-  krylov.tolerance = settings.tolerance;
-  krylov.max_iterations = settings.max_iterations;
-  const KrylovResult solved = bicgstab(matrix_, rhs_.data(), solution_.data(), *preconditioner_, krylov, workspace_);
-  if (!std::isfinite(solved.residual)) {
-    throw std::runtime_error("ISPH pressure solve: BiCGSTAB produced a non-finite pressure");
-  }
+  ProjectionSolverSettings solver;
+  solver.method = KrylovMethod::Bicgstab;  // the wall rows make A non-symmetric
+  solver.preconditioner = settings.preconditioner;
+  solver.tolerance = settings.tolerance;
+  solver.max_iterations = settings.max_iterations;
+  solver.warm_start = settings.warm_start;
+  solver.clamp_negative = false;  // clamped by the method
+  solver.non_finite_error = "ISPH pressure solve: BiCGSTAB produced a non-finite pressure";
+  const ProjectionSolveStatistics solved = solver_.solve(matrix_, rhs_, particle_of_, solver, particles.pressure);
   result.iterations = solved.iterations;
   result.residual = solved.residual;
   result.converged = solved.converged;
-  scatter_unknowns(solution_, particle_of_, /*clamp_negative=*/false, particles.pressure);  // clamped by the method
 }
 
 PressureSolveResult PressurePoissonSolver::solve(ParticleSet& particles, const NeighbourList& neighbours,

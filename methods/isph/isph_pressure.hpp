@@ -26,25 +26,22 @@
 //
 // Every row is scaled to pascals (fluid rows by rho0 l0^2, wall rows by 1 / sum_f W_wf), so the
 // relative residual ||b - A p|| / ||b|| weighs all rows alike. The wall rows make A
-// non-symmetric: BiCGSTAB (core/linalg/krylov.hpp) with a diagonal or incomplete-LU preconditioner.
+// non-symmetric: BiCGSTAB (core/linalg/krylov.hpp) through the projection solver
+// (core/linalg/projection_solver.hpp), preconditioned by jacobi, incomplete_factorisation
+// (ILU(0)) or amg.
 // The matrix is assembled straight into compressed rows (core/linalg/sparse_matrix.hpp), rows in
 // parallel, into storage kept from step to step.
-#include <memory>
-#include <string>
 #include <vector>
 
 #include <Eigen/Sparse>
 
-#include "core/linalg/krylov.hpp"
+#include "core/linalg/projection_solver.hpp"
 #include "core/search/neighbour_search.hpp"
 #include "core/base/particles.hpp"
 #include "core/kernels/sph_kernels.hpp"
 #include "core/walls/wall_samples.hpp"
 
 namespace mps_lab::isph {
-
-enum class PreconditionerKind { Diagonal, IncompleteLu, Amg };
-PreconditionerKind preconditioner_from_name(const std::string& name);  // "diagonal" | "incomplete_lu" | "amg"
 
 struct PressureSolveSettings {
   double rest_density = 1000.0;     // rho0, kg/m^3
@@ -55,7 +52,8 @@ struct PressureSolveSettings {
   double tolerance = 1.0e-8;        // relative residual ||b - A p|| / ||b||
   long long max_iterations = 1000;  // BiCGSTAB iterations (all restarts together)
   bool warm_start = true;           // start from particles.pressure
-  PreconditionerKind preconditioner = PreconditionerKind::Diagonal;
+  // core/linalg/projection_solver.hpp: jacobi, incomplete_factorisation (ILU(0) here) or amg
+  PreconditionerKind preconditioner = PreconditionerKind::Jacobi;
 };
 
 struct PressureSolveResult {
@@ -102,6 +100,19 @@ class PressurePoissonSolver {
   const std::vector<int>& particle_of_row() const { return particle_of_; }
 
  private:
+  // What every row of the assembly reads.
+  struct RowInputs {
+    const ParticleSet& particles;
+    const NeighbourList& neighbours;
+    const WallSampleList& samples;
+    const SphKernel& kernel;
+    const std::vector<double>& density;
+    const std::vector<double>& source;
+    const PressureSolveSettings& settings;
+    double fluid_scale;  // rho0 l0^2, kg/m: fluid rows in Pa
+  };
+  bool fluid_row(const RowInputs& in, int row, std::size_t i, CsrAssembler::RowWriter& writer);
+  bool wall_row(const RowInputs& in, int row, std::size_t i, CsrAssembler::RowWriter& writer);
   void assemble_rows(const ParticleSet& particles, const NeighbourList& neighbours, const WallSampleList& samples,
                      const SphKernel& kernel, const std::vector<double>& density, const std::vector<double>& source,
                      const PressureSolveSettings& settings);
@@ -112,11 +123,8 @@ class PressurePoissonSolver {
   std::vector<char> grounded_;  // per unknown: touches a Dirichlet particle
   CsrAssembler assembler_;
   CsrMatrix matrix_;
-  std::vector<double> rhs_;       // Pa
-  std::vector<double> solution_;  // Pa
-  PreconditionerKind preconditioner_kind_ = PreconditionerKind::Diagonal;
-  std::unique_ptr<Preconditioner> preconditioner_;
-  KrylovWorkspace workspace_;
+  std::vector<double> rhs_;  // Pa
+  ProjectionSolver solver_;
 };
 
 }  // namespace mps_lab::isph

@@ -63,9 +63,8 @@ class MpsMethod final : public Method {
     // "auto": AMG from amg_min_fluid_particles on (docs/performance.md: at 741 fluid particles
     // Jacobi-CG is 1.5x faster, at 4851 AMG-CG is 1.6x faster), decided once per run from the
     // initial particles, so a restored checkpoint decides the same.
-    settings_.preconditioner = preconditioner_choice_ != "auto" ? preconditioner_choice_
-                               : particles.count(ParticleType::Fluid) >= amg_min_fluid_particles_ ? "amg"
-                                                                                                   : "jacobi";
+    settings_.preconditioner = choose_preconditioner(preconditioner_choice_, particles.count(ParticleType::Fluid),
+                                                     amg_min_fluid_particles_);
     carries_pressure_.assign(n, 0);
     for (std::size_t i = 0; i < n; ++i) {
       carries_pressure_[i] = particles.type[i] == ParticleType::Fluid ||
@@ -80,109 +79,19 @@ class MpsMethod final : public Method {
   double time_step(const ParticleSet&) const override { return scene_.time.time_step; }
 
   StepReport step(ParticleSet& particles, double dt) override {
-    const std::size_t n = particles.size();
-    const auto count = static_cast<std::ptrdiff_t>(n);
     WallContext context{particles, &neighbours_, dt, scene_};
     context.samples = &samples_;
     context.support = search_radius_;
-
-    // --- 5.1 explicit step -------------------------------------------------------------
-    const Vec2 gravity = scene_.physics.gravity;
-    {
-      const auto timed = measure(timers_, operators_phase_);
-#pragma omp parallel for schedule(static)
-      for (std::ptrdiff_t i = 0; i < count; ++i) {
-        acceleration_[i] = particles.type[i] == ParticleType::Fluid ? gravity : Vec2::Zero();  // 5.1-1
-      }
-      if (scene_.physics.kinematic_viscosity > 0.0) {  // 5.1-2 (costs nothing when nu = 0)
-        add_viscous_acceleration(particles, neighbours_, samples_, laplacian_radius_,
-                                 scene_.physics.kinematic_viscosity, acceleration_);
-      }
-    }
-    {
-      const auto timed = measure(timers_, integration_phase_);
-#pragma omp parallel for schedule(static)
-      for (std::ptrdiff_t i = 0; i < count; ++i) {
-        if (particles.type[i] == ParticleType::Fluid) particles.velocity[i] += dt * acceleration_[i];  // 5.1-3
-      }
-    }
-    walls_.after_explicit_velocity(context);  // 5.1-4 CFL clamp
-    {
-      const auto timed = measure(timers_, integration_phase_);
-#pragma omp parallel for schedule(static)
-      for (std::ptrdiff_t i = 0; i < count; ++i) {
-        if (particles.type[i] == ParticleType::Fluid) particles.position[i] += dt * particles.velocity[i];  // 5.1-5
-      }
-      fix_walls(particles);                   // 5.1-6
-    }
-    walls_.after_explicit_position(context);  // 5.1-7 position clamp
-
+    explicit_step(particles, dt, context);     // 5.1
     // --- 5.2 implicit step -------------------------------------------------------------
     search_with_samples(particles, context);  // 5.2-1 (and the wall samples at r*)
     walls_.after_neighbour_search(context);   // 5.2-2 repulsion, 5.2-3 collision
-    auto& n_star = particles.field("number_density");
-    {
-      const auto timed = measure(timers_, operators_phase_);
-      number_density(particles, neighbours_, samples_, density_radius_, n_star);  // 5.2-4
-    }
-    PressureSolveResult solve = [&] {  // 5.2-5 free surface, PPE matrix and right-hand side
-      const auto timed = measure(timers_, assembly_phase_);
-      return ppe_.assemble(particles, neighbours_, samples_, n_star, carries_pressure_, laplacian_radius_,
-                           density_radius_.n0, dt, settings_, particles.field("free_surface"));
-    }();
-    {  // 5.2-6 CG, 5.2-7 P < 0 -> 0
-      const auto timed = measure(timers_, solve_phase_);
-      ppe_.solve_assembled(particles, settings_, solve);
-    }
-    if (!solve.converged) ++nonconverged_solves_;  // the stability monitor records it (StepReport)
-    {
-      const auto timed = measure(timers_, operators_phase_);
-      pressure_acceleration(particles, neighbours_, samples_, gradient_radius_, carries_pressure_,
-                            scene_.physics.density, scene_.physics.gravity, min_includes_self_, acceleration_);
-    }
-    {
-      const auto timed = measure(timers_, integration_phase_);
-#pragma omp parallel for schedule(static)
-      for (std::ptrdiff_t i = 0; i < count; ++i) {  // 5.2-8
-        if (particles.type[i] != ParticleType::Fluid) continue;
-        particles.velocity[i] += dt * acceleration_[i];
-        particles.position[i] += dt * (dt * acceleration_[i]);
-      }
-      fix_walls(particles);                // 5.2-9
-    }
-    walls_.after_correction(context);    // 5.2-10 position clamp
-    {
-      const auto timed = measure(timers_, integration_phase_);
-      ghosts_ += mark_escaped_as_ghosts(particles, scene_);  // 5.2-11
-    }
-
+    const PressureSolveResult solve = solve_pressure(particles, dt);  // 5.2-4 to 5.2-7
+    correct(particles, dt, context);          // 5.2-8 to 5.2-11
     total_iterations_ += solve.iterations;
     ++steps_;
     ungrounded_groups_ += solve.ungrounded_groups;
-
-    // Compressibility left for the solver: mean |n* - n0| / n0 over interior fluid.
-    double deviation = 0.0;
-    std::size_t interior = 0;
-    const auto& surface = particles.field("free_surface");
-    for (std::size_t i = 0; i < n; ++i) {
-      if (particles.type[i] != ParticleType::Fluid || surface[i] != 0.0) continue;
-      deviation += std::fabs(n_star[i] - density_radius_.n0) / density_radius_.n0;
-      ++interior;
-    }
-    StepReport report;
-    report.speed_limited_particles = context.speed_limited;
-    report.solver_iterations = solve.iterations;
-    report.solver_residual = solve.residual;
-    report.solver_converged = solve.converged;
-    if (!solve.converged) {
-      report.solver_note = "CG residual " + format_double(solve.residual) + " > cg_tolerance " +
-                           format_double(settings_.tolerance) + " after " + std::to_string(solve.iterations) +
-                           " iterations";
-    }
-    report.extra = {interior > 0 ? deviation / static_cast<double>(interior) : 0.0,
-                    static_cast<double>(solve.surface), static_cast<double>(solve.unknowns),
-                    static_cast<double>(solve.ungrounded_groups)};
-    return report;
+    return step_report(particles, solve, context);
   }
 
   nlohmann::json summary() const override {
@@ -195,7 +104,7 @@ class MpsMethod final : public Method {
             {"laplacian_radius", radius_json(laplacian_radius_)},
             {"wall_treatments", walls_.names()},
             {"boundary_model", walls_.boundary_name()},
-            {"preconditioner", settings_.preconditioner},
+            {"preconditioner", preconditioner_name(settings_.preconditioner)},
             {"ghosts_created", ghosts_},
             {"ungrounded_groups_regularised", ungrounded_groups_},
             {"nonconverged_solves", nonconverged_solves_}};
@@ -233,6 +142,116 @@ class MpsMethod final : public Method {
   }
 
  private:
+  // Spec §5.1: gravity and viscosity, u*, r*, with the wall hooks after the velocity and the
+  // position.
+  void explicit_step(ParticleSet& particles, double dt, WallContext& context) {
+    const auto count = static_cast<std::ptrdiff_t>(particles.size());
+    const Vec2 gravity = scene_.physics.gravity;
+    {
+      const auto timed = measure(timers_, operators_phase_);
+#pragma omp parallel for schedule(static)
+      for (std::ptrdiff_t i = 0; i < count; ++i) {
+        acceleration_[i] = particles.type[i] == ParticleType::Fluid ? gravity : Vec2::Zero();  // 5.1-1
+      }
+      if (scene_.physics.kinematic_viscosity > 0.0) {  // 5.1-2 (costs nothing when nu = 0)
+        add_viscous_acceleration(particles, neighbours_, samples_, laplacian_radius_,
+                                 scene_.physics.kinematic_viscosity, acceleration_);
+      }
+    }
+    {
+      const auto timed = measure(timers_, integration_phase_);
+#pragma omp parallel for schedule(static)
+      for (std::ptrdiff_t i = 0; i < count; ++i) {
+        if (particles.type[i] == ParticleType::Fluid) particles.velocity[i] += dt * acceleration_[i];  // 5.1-3
+      }
+    }
+    walls_.after_explicit_velocity(context);  // 5.1-4 CFL clamp
+    {
+      const auto timed = measure(timers_, integration_phase_);
+#pragma omp parallel for schedule(static)
+      for (std::ptrdiff_t i = 0; i < count; ++i) {
+        if (particles.type[i] == ParticleType::Fluid) particles.position[i] += dt * particles.velocity[i];  // 5.1-5
+      }
+      fix_walls(particles);                   // 5.1-6
+    }
+    walls_.after_explicit_position(context);  // 5.1-7 position clamp
+  }
+
+  // Spec §5.2-4 to 5.2-7: n*, the free surface, the PPE and its solve.
+  PressureSolveResult solve_pressure(ParticleSet& particles, double dt) {
+    auto& n_star = particles.field("number_density");
+    {
+      const auto timed = measure(timers_, operators_phase_);
+      number_density(particles, neighbours_, samples_, density_radius_, n_star);  // 5.2-4
+    }
+    PressureSolveResult solve = [&] {  // 5.2-5 free surface, PPE matrix and right-hand side
+      const auto timed = measure(timers_, assembly_phase_);
+      return ppe_.assemble(particles, neighbours_, samples_, n_star, carries_pressure_, laplacian_radius_,
+                           density_radius_.n0, dt, settings_, particles.field("free_surface"));
+    }();
+    {  // 5.2-6 CG, 5.2-7 P < 0 -> 0
+      const auto timed = measure(timers_, solve_phase_);
+      ppe_.solve_assembled(particles, settings_, solve);
+    }
+    if (!solve.converged) ++nonconverged_solves_;  // the stability monitor records it (StepReport)
+    return solve;
+  }
+
+  // Spec §5.2-8 to 5.2-11: the pressure acceleration, u and r corrected, the wall hook after
+  // the correction, escaped particles to ghosts.
+  void correct(ParticleSet& particles, double dt, WallContext& context) {
+    const auto count = static_cast<std::ptrdiff_t>(particles.size());
+    {
+      const auto timed = measure(timers_, operators_phase_);
+      pressure_acceleration(particles, neighbours_, samples_, gradient_radius_, carries_pressure_,
+                            scene_.physics.density, scene_.physics.gravity, min_includes_self_, acceleration_);
+    }
+    {
+      const auto timed = measure(timers_, integration_phase_);
+#pragma omp parallel for schedule(static)
+      for (std::ptrdiff_t i = 0; i < count; ++i) {  // 5.2-8
+        if (particles.type[i] != ParticleType::Fluid) continue;
+        particles.velocity[i] += dt * acceleration_[i];
+        particles.position[i] += dt * (dt * acceleration_[i]);
+      }
+      fix_walls(particles);                // 5.2-9
+    }
+    walls_.after_correction(context);    // 5.2-10 position clamp
+    {
+      const auto timed = measure(timers_, integration_phase_);
+      ghosts_ += mark_escaped_as_ghosts(particles, scene_);  // 5.2-11
+    }
+  }
+
+  // The step's report: solver statistics, and the compressibility left for the solver.
+  StepReport step_report(const ParticleSet& particles, const PressureSolveResult& solve, const WallContext& context) const {
+    const std::size_t n = particles.size();
+    const auto& n_star = particles.field("number_density");
+    // Compressibility left for the solver: mean |n* - n0| / n0 over interior fluid.
+    double deviation = 0.0;
+    std::size_t interior = 0;
+    const auto& surface = particles.field("free_surface");
+    for (std::size_t i = 0; i < n; ++i) {
+      if (particles.type[i] != ParticleType::Fluid || surface[i] != 0.0) continue;
+      deviation += std::fabs(n_star[i] - density_radius_.n0) / density_radius_.n0;
+      ++interior;
+    }
+    StepReport report;
+    report.speed_limited_particles = context.speed_limited;
+    report.solver_iterations = solve.iterations;
+    report.solver_residual = solve.residual;
+    report.solver_converged = solve.converged;
+    if (!solve.converged) {
+      report.solver_note = "CG residual " + format_double(solve.residual) + " > cg_tolerance " +
+                           format_double(settings_.tolerance) + " after " + std::to_string(solve.iterations) +
+                           " iterations";
+    }
+    report.extra = {interior > 0 ? deviation / static_cast<double>(interior) : 0.0,
+                    static_cast<double>(solve.surface), static_cast<double>(solve.unknowns),
+                    static_cast<double>(solve.ungrounded_groups)};
+    return report;
+  }
+
   // Neighbours within the largest radius, then the boundary model's wall samples there.
   void search(const ParticleSet& particles, WallContext& context) {
     const auto timed = measure(timers_, search_phase_);
@@ -301,8 +320,8 @@ void mps_lab_register_method_mps(mps_lab::MethodRegistry& registry) {
           .above(0.0)
           .below(1.0),
       string_parameter("preconditioner", "auto",
-                       "CG preconditioner; auto: amg from amg_min_fluid_particles fluid particles on, jacobi below")
-          .one_of({"auto", "jacobi", "incomplete_cholesky", "amg"}),
+                       "CG preconditioner (incomplete_factorisation: IC(0)); auto: amg from amg_min_fluid_particles fluid particles on, jacobi below")
+          .one_of(preconditioner_choices()),
       integer_parameter("amg_min_fluid_particles", 2000,
                         "preconditioner auto: the fluid particle count from which AMG beats Jacobi (measured)")
           .at_least(0),

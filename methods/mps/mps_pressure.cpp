@@ -1,28 +1,67 @@
 #include "methods/mps/mps_pressure.hpp"
 
-#include <stdexcept>
-
-#include "core/linalg/amg.hpp"
 #include "core/linalg/pressure_system.hpp"
+#include "core/search/for_each_neighbour.hpp"
 
 namespace mps_lab::mps {
 
-namespace {
-
-// The row blocks of the incomplete Cholesky preconditioner: fixed (not the thread count), so
-// that the result does not depend on it; two blocks let two threads factor and solve at once.
-constexpr int kIncompleteCholeskyBlocks = 2;
-
-}  // namespace
-
-std::unique_ptr<Preconditioner> make_preconditioner(const std::string& name) {
-  if (name == "jacobi") return std::make_unique<JacobiPreconditioner>();
-  if (name == "incomplete_cholesky") return std::make_unique<IncompleteLuPreconditioner>(kIncompleteCholeskyBlocks);
-  if (name == "amg") return std::make_unique<AmgPreconditioner>();  // core/linalg/amg.hpp, smoothed aggregation
-  throw std::invalid_argument("unknown preconditioner '" + name + "' (expected jacobi, incomplete_cholesky or amg)");
-}
-
 Eigen::SparseMatrix<double, Eigen::RowMajor> PressurePoissonSolver::matrix() const { return to_eigen(matrix_); }
+
+// Row `row` of A and b (spec §2 Laplacian, §8 source): the neighbours' and the wall samples'
+// terms, the diagonal first, the right-hand side, and whether the row touches a Dirichlet
+// particle. Reads only: rows are assembled in parallel.
+void PressurePoissonSolver::assemble_row(const RowInputs& in, int row) {
+  const ParticleSet& particles = in.particles;
+  const NeighbourList& neighbours = in.neighbours;
+  const WallSampleList& samples = in.samples;
+  const std::vector<double>& number_density = in.number_density;
+  const std::vector<char>& carries_pressure = in.carries_pressure;
+  const OperatorRadius& laplacian = in.laplacian;
+  const PressureSolveSettings& settings = in.settings;
+  const double n0 = in.n0;
+  const double coefficient = in.coefficient;
+  const double source = in.source;
+  const auto i = static_cast<std::size_t>(particle_of_[static_cast<std::size_t>(row)]);
+  auto writer = assembler_.row(row);
+  writer.add(row, 0.0);  // the diagonal, summed below
+  double diagonal = 0.0;
+  bool grounded = false;
+  for_each_neighbour(neighbours, i, [&](std::uint32_t j) {
+    if (!carries_pressure[j] || particles.type[j] == ParticleType::Ghost) return;
+    const double a = coefficient *
+                       mps_weight((particles.position[j] - particles.position[i]).norm(), laplacian.re, laplacian.r_min);
+    if (a == 0.0) return;
+    diagonal += a;
+    if (row_of_[j] >= 0) {
+      writer.add(row_of_[j], -a);
+    } else {
+      grounded = true;  // a Dirichlet (P = 0) neighbour
+    }
+  });
+  double wall_part = 0.0;  // known part of the wall samples' Laplacian terms, moved to b_i
+  for_each_neighbour(samples, i, [&](const WallSample& wall) {
+    const double a = coefficient * wall.volume *
+                         mps_weight((wall.position - particles.position[i]).norm(), laplacian.re, laplacian.r_min);
+    if (a == 0.0) return;
+    wall_part += a * sample_pressure_offset(wall, particles.position, settings.density, settings.gravity);
+    if (wall.source == i) return;  // p_i - p_i
+    diagonal += a;
+    if (row_of_[wall.source] >= 0) {
+      writer.add(row_of_[wall.source], -a);
+    } else {
+      grounded = true;  // the image of a Dirichlet particle
+    }
+  });
+  if (diagonal == 0.0) {  // isolated: no pressure-carrying neighbour at all
+    diagonal = 1.0;
+    grounded = true;
+  }
+  writer.value(0) = diagonal;
+  writer.close();
+  grounded_[static_cast<std::size_t>(row)] = grounded ? 1 : 0;
+  // b_i = relaxation (rho/dt^2) (n*_i - n0)/n0   [sign: A = -<lap>]
+  rhs_[static_cast<std::size_t>(row)] = source * (number_density[i] - n0) / n0 + wall_part;
+}
 
 PressureSolveResult PressurePoissonSolver::assemble(ParticleSet& particles, const NeighbourList& neighbours,
                                                     const WallSampleList& samples,
@@ -62,57 +101,14 @@ PressureSolveResult PressurePoissonSolver::assemble(ParticleSet& particles, cons
   const bool with_samples = samples.has_samples();
   rhs_.resize(static_cast<std::size_t>(unknowns));
   grounded_.assign(static_cast<std::size_t>(unknowns), 0);
+  const RowInputs in{particles, neighbours, samples, number_density, carries_pressure, laplacian, settings,
+                     n0, coefficient, source};
   assembler_.start(unknowns, [&](int row) {
     const auto i = static_cast<std::size_t>(particle_of_[static_cast<std::size_t>(row)]);
     return static_cast<int>(1 + neighbours.count(i) + (with_samples ? samples.end(i) - samples.begin(i) : 0));
   });
 #pragma omp parallel for schedule(static)
-  for (int row = 0; row < unknowns; ++row) {
-    const auto i = static_cast<std::size_t>(particle_of_[static_cast<std::size_t>(row)]);
-    auto writer = assembler_.row(row);
-    writer.add(row, 0.0);  // the diagonal, summed below
-    double diagonal = 0.0;
-    bool grounded = false;
-    for (std::uint32_t k = neighbours.begin(i); k < neighbours.end(i); ++k) {
-      const std::uint32_t j = neighbours.indices[k];
-      if (!carries_pressure[j] || particles.type[j] == ParticleType::Ghost) continue;
-      const double a = coefficient *
-                       mps_weight((particles.position[j] - particles.position[i]).norm(), laplacian.re, laplacian.r_min);
-      if (a == 0.0) continue;
-      diagonal += a;
-      if (row_of_[j] >= 0) {
-        writer.add(row_of_[j], -a);
-      } else {
-        grounded = true;  // a Dirichlet (P = 0) neighbour
-      }
-    }
-    double wall_part = 0.0;  // known part of the wall samples' Laplacian terms, moved to b_i
-    if (with_samples) {
-      for (std::uint32_t k = samples.begin(i); k < samples.end(i); ++k) {
-        const WallSample& wall = samples.samples[k];
-        const double a = coefficient * wall.volume *
-                         mps_weight((wall.position - particles.position[i]).norm(), laplacian.re, laplacian.r_min);
-        if (a == 0.0) continue;
-        wall_part += a * sample_pressure_offset(wall, particles.position, settings.density, settings.gravity);
-        if (wall.source == i) continue;  // p_i - p_i
-        diagonal += a;
-        if (row_of_[wall.source] >= 0) {
-          writer.add(row_of_[wall.source], -a);
-        } else {
-          grounded = true;  // the image of a Dirichlet particle
-        }
-      }
-    }
-    if (diagonal == 0.0) {  // isolated: no pressure-carrying neighbour at all
-      diagonal = 1.0;
-      grounded = true;
-    }
-    writer.value(0) = diagonal;
-    writer.close();
-    grounded_[static_cast<std::size_t>(row)] = grounded ? 1 : 0;
-    // b_i = relaxation (rho/dt^2) (n*_i - n0)/n0   [sign: A = -<lap>]
-    rhs_[static_cast<std::size_t>(row)] = source * (number_density[i] - n0) / n0 + wall_part;
-  }
+  for (int row = 0; row < unknowns; ++row) assemble_row(in, row);
   assembler_.finish(matrix_, /*diagonal_first=*/true);
 
   // A group of unknowns with no Dirichlet row (core/linalg/pressure_system.hpp) makes A singular
@@ -124,25 +120,17 @@ PressureSolveResult PressurePoissonSolver::assemble(ParticleSet& particles, cons
 
 void PressurePoissonSolver::solve_assembled(ParticleSet& particles, const PressureSolveSettings& settings,
                                             PressureSolveResult& result) {
-  const int unknowns = matrix_.rows;
-  if (unknowns == 0) return;
-  if (!preconditioner_ || preconditioner_name_ != settings.preconditioner) {
-    preconditioner_ = make_preconditioner(settings.preconditioner);
-    preconditioner_name_ = settings.preconditioner;
-  }
-  preconditioner_->setup(matrix_);
-
-  gather_unknowns(particles.pressure, particle_of_, settings.warm_start, solution_);
-
-  KrylovSettings krylov;
-  krylov.tolerance = settings.tolerance;
-  krylov.max_iterations = settings.max_iterations;
-  const KrylovResult solved = conjugate_gradient(matrix_, rhs_.data(), solution_.data(), *preconditioner_, krylov, workspace_);
+  ProjectionSolverSettings solver;
+  solver.method = KrylovMethod::ConjugateGradient;  // A symmetric positive definite
+  solver.preconditioner = settings.preconditioner;
+  solver.tolerance = settings.tolerance;
+  solver.max_iterations = settings.max_iterations;
+  solver.warm_start = settings.warm_start;
+  solver.clamp_negative = settings.clamp_negative;  // spec §5.2-7
+  const ProjectionSolveStatistics solved = solver_.solve(matrix_, rhs_, particle_of_, solver, particles.pressure);
   result.iterations = solved.iterations;
   result.residual = solved.residual;
   result.converged = solved.converged;
-
-  scatter_unknowns(solution_, particle_of_, settings.clamp_negative, particles.pressure);  // spec §5.2-7
 }
 
 }  // namespace mps_lab::mps

@@ -11,13 +11,11 @@
 //
 // The matrix is assembled straight into compressed rows (core/linalg/sparse_matrix.hpp), rows in
 // parallel, into storage kept from step to step.
-#include <memory>
-#include <string>
 #include <vector>
 
 #include <Eigen/Sparse>
 
-#include "core/linalg/krylov.hpp"
+#include "core/linalg/projection_solver.hpp"
 #include "core/search/neighbour_search.hpp"
 #include "core/base/particles.hpp"
 #include "core/linalg/sparse_matrix.hpp"
@@ -33,13 +31,10 @@ struct PressureSolveSettings {
   double tolerance = 1.0e-8;             // relative residual ||b - A p|| / ||b||
   long long max_iterations = 10000;
   bool warm_start = true;                 // start CG from the previous pressure
-  std::string preconditioner = "jacobi";  // "jacobi" or "incomplete_cholesky" (make_preconditioner)
+  // core/linalg/projection_solver.hpp: jacobi, incomplete_factorisation (IC(0) here) or amg
+  PreconditionerKind preconditioner = PreconditionerKind::Jacobi;
   bool clamp_negative = true;             // spec §5.2-7
 };
-
-// The CG preconditioner called `name`: "jacobi" (diagonal) or "incomplete_cholesky" (IC(0)
-// on two fixed row blocks, core/linalg/krylov.hpp). Throws std::invalid_argument for another name.
-std::unique_ptr<Preconditioner> make_preconditioner(const std::string& name);
 
 struct PressureSolveResult {
   long long iterations = 0;
@@ -65,9 +60,10 @@ class PressurePoissonSolver {
                                const OperatorRadius& laplacian, double n0, double dt,
                                const PressureSolveSettings& settings, std::vector<double>& free_surface);
 
-  // Solves the assembled system by preconditioned CG (spec §5.2-6) from the previous pressure
-  // (warm start) or zero, and writes P of every unknown, negative values clamped to 0 when
-  // asked (spec §5.2-7). Fills iterations, residual and converged of `result`.
+  // Solves the assembled system by preconditioned CG (spec §5.2-6; the projection solver of
+  // core/linalg/projection_solver.hpp) from the previous pressure (warm start) or zero, and
+  // writes P of every unknown, negative values clamped to 0 when asked (spec §5.2-7). Fills
+  // iterations, residual and converged of `result`.
   void solve_assembled(ParticleSet& particles, const PressureSolveSettings& settings, PressureSolveResult& result);
 
   // Both of the above.
@@ -89,16 +85,28 @@ class PressurePoissonSolver {
   }
 
  private:
+  // What every row of the assembly reads.
+  struct RowInputs {
+    const ParticleSet& particles;
+    const NeighbourList& neighbours;
+    const WallSampleList& samples;
+    const std::vector<double>& number_density;
+    const std::vector<char>& carries_pressure;
+    const OperatorRadius& laplacian;
+    const PressureSolveSettings& settings;
+    double n0;
+    double coefficient;  // 2d / (n0_L lambda_L), 1/m^2
+    double source;       // relaxation rho / dt^2, kg/(m^3 s^2)
+  };
+  void assemble_row(const RowInputs& in, int row);
+
   std::vector<int> row_of_;  // particle -> unknown index, -1 if not an unknown
   std::vector<int> particle_of_;
   std::vector<char> grounded_;  // per unknown: touches a Dirichlet particle
   CsrAssembler assembler_;
   CsrMatrix matrix_;
-  std::vector<double> rhs_;       // Pa/m^2
-  std::vector<double> solution_;  // Pa
-  std::string preconditioner_name_;
-  std::unique_ptr<Preconditioner> preconditioner_;
-  KrylovWorkspace workspace_;
+  std::vector<double> rhs_;  // Pa/m^2
+  ProjectionSolver solver_;
 };
 
 }  // namespace mps_lab::mps

@@ -1,0 +1,92 @@
+#pragma once
+// The linear solve of the projection methods (mps, isph): one component for the Krylov
+// method, the preconditioner, the warm start, the stopping rule and the statistics.
+//
+// A method assembles its pressure system A p = b (CsrMatrix, diagonal first in each row) with
+// row r standing for particle particle_of[r], then calls ProjectionSolver::solve, which
+//   1. sets up the preconditioner chosen from the one vocabulary below (kept between calls;
+//      rebuilt only when the choice changes),
+//   2. starts from the particles' pressures (warm start) or from zero (gather_unknowns),
+//   3. runs conjugate gradients (A symmetric positive definite: mps) or BiCGSTAB (A not
+//      symmetric: isph's wall rows) until ||b - A p|| / ||b|| < tolerance or the iteration
+//      budget is spent (core/linalg/krylov.hpp: the residual reported is recomputed),
+//   4. writes the pressures back (scatter_unknowns), negative values clamped to 0 when asked
+//      (spec §5.2-7 for mps).
+//
+// The preconditioner vocabulary, the same for every method:
+//   "jacobi"                    the inverse diagonal;
+//   "incomplete_factorisation"  ILU(0) on two fixed row blocks, which is IC(0) when A is
+//                               symmetric (core/linalg/krylov.hpp);
+//   "amg"                       smoothed-aggregation algebraic multigrid (core/linalg/amg.hpp);
+//   "auto"                      amg from a fluid-particle count on, jacobi below
+//                               (choose_preconditioner; the count is the method's parameter).
+#include <cstddef>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "core/linalg/krylov.hpp"
+#include "core/linalg/sparse_matrix.hpp"
+
+namespace mps_lab {
+
+enum class PreconditionerKind { Jacobi, IncompleteFactorisation, Amg };
+enum class KrylovMethod { ConjugateGradient, Bicgstab };
+
+// The values a method's `preconditioner` parameter accepts: auto, jacobi,
+// incomplete_factorisation, amg (for ParameterSpec::one_of: another name is a one-line
+// error naming the key and these values).
+std::vector<std::string> preconditioner_choices();
+
+// The kind called `name` (not "auto"); throws std::invalid_argument for another name.
+PreconditionerKind preconditioner_from_name(const std::string& name);
+// The vocabulary's name of `kind` (run.json's method summary).
+const char* preconditioner_name(PreconditionerKind kind);
+
+// Resolves a `preconditioner` parameter: "auto" is amg from `amg_min_fluid_particles` fluid
+// particles on and jacobi below (decided once per run from the initial particles, so that a
+// restored checkpoint decides the same); any other value names its kind.
+PreconditionerKind choose_preconditioner(const std::string& choice, std::size_t fluid_particles,
+                                         std::size_t amg_min_fluid_particles);
+
+// A new preconditioner of `kind` (incomplete factorisation on fixed row blocks, so that the
+// result does not depend on the thread count).
+std::unique_ptr<Preconditioner> make_preconditioner(PreconditionerKind kind);
+
+struct ProjectionSolverSettings {
+  KrylovMethod method = KrylovMethod::ConjugateGradient;
+  PreconditionerKind preconditioner = PreconditionerKind::Jacobi;
+  double tolerance = 1.0e-8;          // relative residual ||b - A p|| / ||b||
+  long long max_iterations = 10000;   // Krylov iterations (all restarts together)
+  bool warm_start = true;             // start from the particles' pressures, else from 0
+  bool clamp_negative = false;        // write max(p, 0) back (spec §5.2-7 for mps)
+  // A non-finite residual throws std::runtime_error with this message, before anything is
+  // written back (isph); null: the pressures are written back as they are (mps, whose
+  // stability monitor reports the NaN).
+  const char* non_finite_error = nullptr;
+};
+
+struct ProjectionSolveStatistics {
+  long long iterations = 0;
+  double residual = 0.0;  // ||b - A p|| / ||b|| of the returned pressure
+  bool converged = true;
+};
+
+class ProjectionSolver {
+ public:
+  // Solves matrix p = rhs (rhs has matrix.rows entries) and writes p of row r to
+  // pressure[particle_of[r]]. Nothing is done (and nothing written) for an empty matrix.
+  ProjectionSolveStatistics solve(const CsrMatrix& matrix, const std::vector<double>& rhs,
+                                  const std::vector<int>& particle_of, const ProjectionSolverSettings& settings,
+                                  std::vector<double>& pressure);
+
+ private:
+  void prepare_preconditioner(const CsrMatrix& matrix, PreconditionerKind kind);
+
+  PreconditionerKind kind_ = PreconditionerKind::Jacobi;
+  std::unique_ptr<Preconditioner> preconditioner_;
+  std::vector<double> solution_;  // Pa
+  KrylovWorkspace workspace_;
+};
+
+}  // namespace mps_lab
