@@ -366,22 +366,33 @@ EdgeRun closed_tank(const std::string& method) {
     solver_limits(METHOD);                                                                               \
   }
 
+#ifdef MPS_LAB_WITH_MPS
 MPS_LAB_STABILITY_CASES("mps")
+#endif
+#ifdef MPS_LAB_WITH_ISPH
 MPS_LAB_STABILITY_CASES("isph")
+#endif
+#ifdef MPS_LAB_WITH_DFSPH
 MPS_LAB_STABILITY_CASES("dfsph")
+#endif
 
+#ifdef MPS_LAB_WITH_MPS
 TEST_CASE("mps: the dam break to T = 10 s settles to hydrostatic", "[stability][mps]") {
   const EdgeRun run = long_run("mps");
   long_run_settles(run);
   long_run_hydrostatic(run);
 }
+#endif
 
+#ifdef MPS_LAB_WITH_ISPH
 TEST_CASE("isph: the dam break to T = 10 s settles to hydrostatic", "[stability][isph]") {
   const EdgeRun run = long_run("isph");
   long_run_settles(run);
   long_run_hydrostatic(run);
 }
+#endif
 
+#ifdef MPS_LAB_WITH_DFSPH
 TEST_CASE("dfsph: the dam break to T = 10 s settles", "[stability][dfsph]") {
   const EdgeRun run = long_run("dfsph");
   long_run_settles(run);
@@ -389,24 +400,34 @@ TEST_CASE("dfsph: the dam break to T = 10 s settles", "[stability][dfsph]") {
   // four particles deep, DFSPH's boundary rows carry too much pressure, so the fitted
   // dp/dy is 1.86 rho g (measured), not rho g. Checked in the [!mayfail] case below.
 }
+#endif
 
+#ifdef MPS_LAB_WITH_DFSPH
 TEST_CASE("dfsph: the settled dam break is hydrostatic (known to fail: boundary overpressure)",
           "[stability][dfsph][!mayfail]") {
   long_run_hydrostatic(long_run("dfsph"));
 }
+#endif
 
 TEST_CASE("zero gravity: water at rest stays at rest", "[stability]") {
   // MPS and ISPH: the initial lattice is their equilibrium (n = n0; rho = rho0 with the mass
   // from the lattice sum), so no particle moves at all (measured: 0).
+#ifdef MPS_LAB_WITH_MPS
   CHECK(zero_gravity_displacement("mps") == 0.0);
+#endif
+#ifdef MPS_LAB_WITH_ISPH
   CHECK(zero_gravity_displacement("isph") == 0.0);
+#endif
   // DFSPH: the particle mass is rho0 l0^2 and the cubic spline's lattice sum is 0.38 % above
   // 1/l0^2, so the lattice is 0.38 % denser than rho0 and the density solver lets it relax
   // outward: measured 0.024 m/s and 0.012 m (0.48 l0) of displacement at 0.5 s, an open
   // defect (docs/stability.md). Bound: 0.6 l0, so that a worse drift is caught.
+#ifdef MPS_LAB_WITH_DFSPH
   CHECK(zero_gravity_displacement("dfsph") < 0.6 * 0.025);
+#endif
 }
 
+#ifdef MPS_LAB_WITH_DFSPH
 TEST_CASE("DFSPH with its default largest step (5e-3 s) at l0 = 0.0025 m: the monitor stops it", "[stability][dfsph]") {
   // At rest the CFL rule takes the largest step, 5e-3 s = 20 spacings of free fall per
   // second; at 19,701 particles the density solve does not converge in 100 iterations, the
@@ -424,11 +445,18 @@ TEST_CASE("DFSPH with its default largest step (5e-3 s) at l0 = 0.0025 m: the mo
   CHECK(run.count("solver") >= 1);
   CHECK(run.result.steps <= 20);
 }
+#endif
 
 TEST_CASE("a closed tank filled to the lid: the monitor stops MPS and ISPH, DFSPH stays at rest", "[stability]") {
   // Measured: mps diverged at t = 0.30 s (energy growth, 15.6 m/s), isph at 0.12 s;
   // dfsph completes at rest (KE 1.7 J/m of E0 = 804 J/m) with non-converged solves.
+#ifdef MPS_LAB_WITH_MPS
   CHECK(closed_tank("mps").result.status == "diverged");
+#endif
+#ifdef MPS_LAB_WITH_ISPH
   CHECK(closed_tank("isph").result.status == "diverged");
+#endif
+#ifdef MPS_LAB_WITH_DFSPH
   CHECK(closed_tank("dfsph").result.status == "completed");
+#endif
 }
