@@ -12,8 +12,9 @@
 //   8. advection x^{n+1} = x^n + dt v^{n+1};                          [after_correction]
 //      escaped fluid particles become ghosts.
 // Bracketed: the wall-treatment hooks (no measure is on by default for dfsph). The wall is the
-// run's boundary model: Akinci boundary particles (akinci_boundary, the default; its `layers`
-// and `volume` are read here), or wall samples (dummy_layers, mirror_particles,
+// run's boundary model: Akinci boundary particles (akinci_boundary, the default: the
+// wall-particle model AkinciMirrored, whose layers and volume rule this method reads from its
+// WallParticleModel), or wall samples (dummy_layers, mirror_particles,
 // distance_function) rebuilt right after every neighbour search and summed in every operator
 // like boundary particles (methods/dfsph/dfsph_operators.hpp). Decisions where the papers
 // leave a choice are listed in docs/methods/dfsph.md.
