@@ -207,6 +207,31 @@ int compare_command(const CompareCommand& command) {
   return all_completed ? 0 : 1;
 }
 
+namespace {
+
+// What the method declares (MethodInfo): the basis of which wall treatments it may use.
+void print_capabilities(const MethodInfo& info) {
+  std::string models;
+  for (const auto model : info.wall_particle_models) {
+    models += (models.empty() ? "" : ", ") + std::string(wall_particle_pressure_name(model));
+  }
+  std::printf("    capabilities: wall hooks %s; wall samples %s; wall-particle models %s\n",
+              info.wall_hooks.names().c_str(), info.wall_samples ? "yes" : "no",
+              models.empty() ? "none" : models.c_str());
+}
+
+// Where a treatment acts for this method, and the optional hooks the method does not call
+// (so that a treatment never loses a hook silently).
+std::string hooks_note(const WallTreatmentInfo& wall, const MethodInfo& method) {
+  if (wall.hooks.empty()) return "";
+  const WallHooks skipped = wall.hooks.without(method.wall_hooks);
+  std::string note = ", acts " + wall.hooks.without(skipped).names();
+  if (!skipped.empty()) note += "; not " + skipped.names() + ", which " + method.name + " does not call";
+  return note;
+}
+
+}  // namespace
+
 int methods_command(bool with_parameters) {
   const MethodRegistry methods = builtin_methods();
   const WallTreatmentRegistry walls = builtin_wall_treatments();
@@ -215,6 +240,7 @@ int methods_command(bool with_parameters) {
   for (const auto* info : methods.all()) {
     std::printf("%-*s  %s\n", static_cast<int>(width), info->name.c_str(), info->description.c_str());
     if (!with_parameters) continue;
+    print_capabilities(*info);
     for (const auto& spec : info->parameters) {
       std::printf("    methods.%s.%s = %s %s  (%s) %s\n", info->name.c_str(), spec.name.c_str(),
                   spec.default_value.dump().c_str(), spec.unit.c_str(), spec.range_text().c_str(),
@@ -224,9 +250,10 @@ int methods_command(bool with_parameters) {
       if (!wall_treatment_supports(*wall, *info)) continue;
       bool default_on = false;
       for (const auto& name : info->default_wall_treatments) default_on = default_on || name == wall->name;
-      std::printf("    wall treatment %s (%s, %s): %s\n", wall->name.c_str(),
+      std::printf("    wall treatment %s (%s, %s%s): %s\n", wall->name.c_str(),
                   wall->role == WallTreatmentRole::Boundary ? "boundary model" : "measure",
-                  default_on ? "on by default" : "off by default", wall->description.c_str());
+                  default_on ? "on by default" : "off by default", hooks_note(*wall, *info).c_str(),
+                  wall->description.c_str());
       for (const auto& spec : wall->parameters) {
         std::printf("        .%s = %s %s  (%s) %s\n", spec.name.c_str(), spec.default_value.dump().c_str(),
                     spec.unit.c_str(), spec.range_text().c_str(), spec.description.c_str());

@@ -6,6 +6,8 @@
 #include <limits>
 #include <filesystem>
 #include <fstream>
+#include <map>
+#include <stdexcept>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -75,6 +77,42 @@ inline CommandResult run_mps_lab(const std::string& arguments, const std::string
   result.stdout_text = read_text(dir / "out");
   result.stderr_text = read_text(dir / "err");
   return result;
+}
+
+// Every file of a run folder by name (frames, frame index), except those that differ between an interrupted and an
+// uninterrupted run by design (run.json: timestamps, "resumed"; series.csv: wall_seconds) or
+// exist only with checkpoints.
+inline std::map<std::string, std::string> run_folder_files(const std::filesystem::path& folder) {
+  std::map<std::string, std::string> files;
+  for (const auto& entry : std::filesystem::directory_iterator(folder)) {
+    const std::string name = entry.path().filename().string();
+    if (name == "run.json" || name == "series.csv" || name == "checkpoint.bin") continue;
+    files[name] = read_text(entry.path());
+  }
+  return files;
+}
+
+// The lines of series.csv (as text) without their wall_seconds cell.
+inline std::vector<std::string> series_rows_without_wall_seconds(const std::filesystem::path& folder) {
+  std::istringstream text(read_text(folder / "series.csv"));
+  std::string line;
+  std::vector<std::string> rows;
+  std::size_t wall = std::string::npos;
+  while (std::getline(text, line)) {
+    std::vector<std::string> cells;
+    std::istringstream cells_text(line);
+    std::string cell;
+    while (std::getline(cells_text, cell, ',')) cells.push_back(cell);
+    if (wall == std::string::npos) {
+      wall = static_cast<std::size_t>(std::find(cells.begin(), cells.end(), "wall_seconds") - cells.begin());
+      if (wall >= cells.size()) throw std::runtime_error((folder / "series.csv").string() + ": no wall_seconds column");
+    }
+    cells.erase(cells.begin() + static_cast<std::ptrdiff_t>(wall));
+    std::string row;
+    for (const auto& kept : cells) row += kept + ",";
+    rows.push_back(row);
+  }
+  return rows;
 }
 
 // Centre of mass of the fluid particles (equal masses), m.

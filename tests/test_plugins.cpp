@@ -3,6 +3,8 @@
 #include <catch2/catch.hpp>
 #include <omp.h>
 
+#include <set>
+
 #include "core/run/driver.hpp"
 #include "core/io/geometry.hpp"
 #include "support.hpp"
@@ -92,9 +94,11 @@ TEST_CASE("a declared but unread parameter is a start-up error", "[plugins]") {
 
 TEST_CASE("a wall treatment registered outside the core acts at its hook", "[plugins]") {
   WallTreatmentRegistry walls = builtin_wall_treatments();
-  walls.add({"sticky_bed", "test-only: stops fluid below a height", {"mps"},
-             {number_parameter("height", 0.1, "m", "particles below stop").above(0.0)}, 50,
-             [](const WallTreatmentSetup& setup) { return std::make_unique<StickyBed>(setup); }});
+  WallTreatmentInfo sticky_bed{"sticky_bed", "test-only: stops fluid below a height",
+                               {number_parameter("height", 0.1, "m", "particles below stop").above(0.0)}, 50,
+                               [](const WallTreatmentSetup& setup) { return std::make_unique<StickyBed>(setup); }};
+  sticky_bed.hooks = {WallHook::AfterCorrection};  // every built-in method calls it
+  walls.add(std::move(sticky_bed));
   const MethodRegistry& methods = registries().methods;
   const Scene scene = load_scene(scene_path("dambreak.json"),
                                  {"methods.mps.wall_treatments.sticky_bed={\"height\": 0.06}"}, methods, walls);
@@ -110,13 +114,81 @@ TEST_CASE("a wall treatment registered outside the core acts at its hook", "[plu
     }
   }
   CHECK(checked > 10);
-  // Enabled for a method it does not list: a clear error naming the key.
+  // Enabled for a method that does not call its hook (free_streaming declares none): a clear
+  // error naming the key.
   MethodRegistry more_methods = builtin_methods();
   more_methods.add(free_streaming_info(false));
   CHECK_THROWS_WITH(load_scene(scene_path("dambreak.json"), {"methods.free_streaming.wall_treatments.sticky_bed={}"},
                                more_methods, walls),
                     Catch::Contains("methods.free_streaming.wall_treatments.sticky_bed: wall treatment 'sticky_bed' "
                                     "does not support method 'free_streaming'"));
+}
+
+TEST_CASE("which wall treatments a method gets is computed from its declarations alone", "[plugins][walls]") {
+  // A test-only method that sums over wall samples, implements no wall-particle model and
+  // calls only two hooks, registered in a test registry: the built-in treatments it may use
+  // follow from what both sides declare, with no name of either anywhere.
+  MethodRegistry methods;
+  MethodInfo info = free_streaming_info(false);
+  info.wall_samples = true;
+  info.wall_hooks = {WallHook::AfterNeighbourSearch, WallHook::AfterCorrection};
+  methods.add(info);
+  const MethodInfo& method = *methods.find("free_streaming");
+  const WallTreatmentRegistry& walls = registries().walls;
+  std::set<std::string> supported;
+  for (const auto* wall : walls.all()) {
+    if (wall_treatment_supports(*wall, method)) supported.insert(wall->name);
+    // Every treatment either fits or says why in one phrase.
+    CHECK(wall_treatment_supports(*wall, method) == wall_treatment_support_gap(*wall, method).empty());
+  }
+  // Wall-sample models: yes (they act after the correction; after the explicit position update
+  // only where a method makes one). Measures at called hooks: yes (repulsion and collision
+  // after the neighbour search; the position clamp after the correction).
+  // Wall-particle models: no. The CFL clamp acts after the explicit velocity update: no.
+  CHECK(supported == std::set<std::string>{"distance_function", "dummy_layers", "mirror_particles",
+                                           "particle_collision", "wall_position_clamp", "wall_repulsion"});
+  CHECK_THAT(wall_treatment_support_gap(*walls.find("cfl_velocity_clamp"), method),
+             Catch::Equals("it acts at after_explicit_velocity, which 'free_streaming' does not call"));
+  CHECK_THAT(wall_treatment_support_gap(*walls.find("akinci_boundary"), method),
+             Catch::Equals("its wall particles need the wall-particle model akinci_mirrored, which 'free_streaming' "
+                           "does not implement"));
+
+  // Declaring a wall-particle model gives the boundary models that are that model, and no other.
+  info.name = "free_streaming_ppe";
+  info.wall_samples = false;
+  info.wall_particle_models = {WallParticlePressure::SolvedInPpe};
+  methods.add(info);
+  std::set<std::string> boundaries;
+  for (const auto* wall : walls.all()) {
+    if (wall->role == WallTreatmentRole::Boundary && wall_treatment_supports(*wall, *methods.find(info.name))) {
+      boundaries.insert(wall->name);
+    }
+  }
+  CHECK(boundaries == std::set<std::string>{"spec_wall_particles"});
+
+  // The scene loader refuses an unsupported treatment in one line naming the key and the reason.
+  MethodRegistry with_builtins = builtin_methods();
+  with_builtins.add(free_streaming_info(false));
+  CHECK_THROWS_WITH(load_scene(scene_path("dambreak.json"),
+                               {"methods.free_streaming.wall_treatments.cfl_velocity_clamp={}"}, with_builtins, walls),
+                    Catch::Contains("methods.free_streaming.wall_treatments.cfl_velocity_clamp: wall treatment "
+                                    "'cfl_velocity_clamp' does not support method 'free_streaming' (it acts at "
+                                    "after_explicit_velocity, which 'free_streaming' does not call)"));
+}
+
+TEST_CASE("a hook the method does not declare cannot run a treatment", "[plugins][walls]") {
+  // A WallTreatmentSet knows the hooks its method declares: a treatment that needs another
+  // one is refused when the set is built, and a call of an undeclared hook is refused.
+  const Scene scene = load("dambreak.json");
+  const auto& mps_choices = scene.method_config("mps").wall_treatments;  // cfl clamp: after_explicit_velocity
+  CHECK_THROWS_WITH(WallTreatmentSet(mps_choices, scene, nullptr, {WallHook::AfterNeighbourSearch, WallHook::AfterCorrection}),
+                    Catch::Contains("acts at after_explicit_velocity, which the method does not call"));
+  WallTreatmentSet set({}, scene, nullptr, {WallHook::AfterCorrection});
+  ParticleSet particles = build_particles(scene);
+  WallContext context{particles, nullptr, 1e-3, scene};
+  CHECK_NOTHROW(set.after_correction(context));
+  CHECK_THROWS_WITH(set.after_neighbour_search(context),
+                    Catch::Contains("called the wall hook after_neighbour_search it does not declare"));
 }
 
 TEST_CASE("same scene, different thread counts: bit-identical particles", "[plugins][determinism]") {

@@ -181,8 +181,7 @@ WallTreatmentInfo lattice_wall_points_info() {
   info.name = "lattice_wall_points";
   info.description = "test-only: lattice points behind the wall surfaces as wall samples";
   info.parameters = {integer_parameter("layers", 3, "depth of the wall in spacings").at_least(1).at_most(10)};
-  info.role = WallTreatmentRole::Boundary;
-  info.wall_particles = false;
+  info.role = WallTreatmentRole::Boundary;  // of wall samples: no wall_particle_model, no hooks
   info.create = [](const WallTreatmentSetup& setup) { return std::make_unique<LatticeWallPoints>(setup); };
   return info;
 }

@@ -236,13 +236,10 @@ std::vector<WallTreatmentChoice> resolve_wall_treatments(const MethodInfo& metho
     choice.parameters = resolve_parameters(specs, named ? block.at(info->name) : nlohmann::json(), source, key);
     choice.enabled = choice.parameters.boolean("enabled");
     if (choice.enabled) {
-      const bool supported = wall_treatment_supports(*info, method);
-      if (!supported) {
-        throw_input_error(source, key, "wall treatment '" + info->name + "' does not support method '" +
-                                           method.name + "' (it supports: " +
-                                           (info->methods.empty() ? std::string("methods that sum over wall samples")
-                                                                  : join(info->methods)) +
-                                           ")");
+      const std::string gap = wall_treatment_support_gap(*info, method);
+      if (!gap.empty()) {
+        throw_input_error(source, key,
+                          "wall treatment '" + info->name + "' does not support method '" + method.name + "' (" + gap + ")");
       }
     }
     if (named || default_on) choices.push_back(std::move(choice));

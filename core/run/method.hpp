@@ -2,7 +2,8 @@
 // Methods are plugins. A method registers a MethodInfo: its name, a one-line
 // description, the parameters it reads (its block in the scene, "methods.<name>"), the
 // per-particle fields it needs, the solver statistics it reports, the wall treatments it
-// uses by default, and a factory. The driver runs whatever the scene and --method name;
+// uses by default, its capabilities (the wall hooks its step calls, whether its operators sum
+// over wall samples, the wall-particle models it implements) and a factory. The driver runs whatever the scene and --method name;
 // the method touches the core only through ParticleSet, the neighbour search, the kernels,
 // the wall-treatment hooks and the helpers declared in core/.
 //
@@ -86,9 +87,16 @@ struct MethodInfo {
   std::vector<FieldSpec> fields;
   std::vector<std::string> series_columns;         // method-specific statistics in series.csv
   std::vector<std::string> default_wall_treatments;  // enabled unless the scene says otherwise
+  // Capabilities: which wall treatments the method may use follows from these alone
+  // (wall_treatment_supports below).
+  // The wall hooks its step calls (WallTreatmentSet checks each call against them).
+  WallHooks wall_hooks;
   // True when every operator of the method also sums over wall samples (core/walls/wall_samples.hpp):
   // the method then runs with every boundary model of wall samples, present and future.
   bool wall_samples = false;
+  // The models of wall particles its operators implement (WallParticleModel): it runs with
+  // every boundary model of wall particles that is one of them.
+  std::vector<WallParticlePressure> wall_particle_models;
   std::function<std::unique_ptr<Method>(const MethodSetup&)> create;
 };
 
@@ -103,10 +111,16 @@ class MethodRegistry {
   std::map<std::string, MethodInfo> entries_;
 };
 
-// Whether a method may use a wall treatment: a boundary model of wall samples works with
-// every method whose operators sum over them (MethodInfo::wall_samples); any other treatment
-// names the methods it supports (WallTreatmentInfo::methods).
+// Whether a method may use a wall treatment, from the declarations of both alone:
+//  - a boundary model of wall samples needs a method whose operators sum over them
+//    (MethodInfo::wall_samples); a boundary model of wall particles needs a method that
+//    implements its wall-particle model (MethodInfo::wall_particle_models);
+//  - the method calls every hook where the treatment acts (WallTreatmentInfo::hooks), except
+//    the treatment's optional hooks, and at least one of them.
 bool wall_treatment_supports(const WallTreatmentInfo& wall, const MethodInfo& method);
+// Why not, in a phrase for an error message ("it acts at after_explicit_velocity, which 'x'
+// does not call"); empty when the method may use the treatment.
+std::string wall_treatment_support_gap(const WallTreatmentInfo& wall, const MethodInfo& method);
 
 // Every method compiled into this build (generated from methods/*/).
 MethodRegistry builtin_methods();

@@ -33,9 +33,39 @@ std::vector<std::string> MethodRegistry::names() const {
   return out;
 }
 
+namespace {
+
+// The boundary part of the support rule: what the method's operators do with the wall.
+std::string boundary_gap(const WallTreatmentInfo& wall, const MethodInfo& method) {
+  if (wall.role != WallTreatmentRole::Boundary) return "";
+  if (!wall.wall_particle_model) {
+    return method.wall_samples ? "" : "it is a boundary model of wall samples, which '" + method.name + "' does not sum over";
+  }
+  const auto& models = method.wall_particle_models;
+  if (std::find(models.begin(), models.end(), *wall.wall_particle_model) != models.end()) return "";
+  return std::string("its wall particles need the wall-particle model ") +
+         wall_particle_pressure_name(*wall.wall_particle_model) + ", which '" + method.name + "' does not implement";
+}
+
+// The hook part: the method calls every hook where the treatment acts (but its optional ones).
+std::string hook_gap(const WallTreatmentInfo& wall, const MethodInfo& method) {
+  const WallHooks missing = wall.hooks.without(wall.optional_hooks).without(method.wall_hooks);
+  if (!missing.empty()) return "it acts at " + missing.names() + ", which '" + method.name + "' does not call";
+  if (!wall.hooks.empty() && !wall.hooks.intersects(method.wall_hooks)) {
+    return "it acts at " + wall.hooks.names() + ", none of which '" + method.name + "' calls";
+  }
+  return "";
+}
+
+}  // namespace
+
+std::string wall_treatment_support_gap(const WallTreatmentInfo& wall, const MethodInfo& method) {
+  const std::string boundary = boundary_gap(wall, method);
+  return boundary.empty() ? hook_gap(wall, method) : boundary;
+}
+
 bool wall_treatment_supports(const WallTreatmentInfo& wall, const MethodInfo& method) {
-  if (wall.role == WallTreatmentRole::Boundary && !wall.wall_particles && method.wall_samples) return true;
-  return std::find(wall.methods.begin(), wall.methods.end(), method.name) != wall.methods.end();
+  return wall_treatment_support_gap(wall, method).empty();
 }
 
 }  // namespace mps_lab

@@ -94,7 +94,6 @@ void mps_lab_register_wall_treatment_distance_function(mps_lab::WallTreatmentReg
   info.description =
       "wall contributions from the distance to each wall segment, no wall particles (Harada et al. 2008; SPH boundary "
       "integral)";
-  info.methods = {};  // every method that sums over wall samples (MethodInfo::wall_samples)
   info.parameters = {
       integer_parameter("quadrature_points", 1,
                         "points per spacing of the virtual wall: 1 = Harada's lattice wall weight, > 1 = quadrature of "
@@ -105,8 +104,7 @@ void mps_lab_register_wall_treatment_distance_function(mps_lab::WallTreatmentReg
           .one_of({"no_slip", "free_slip"}),
   };
   info.parameters.push_back(crossing_parameter("none"));
-  info.role = WallTreatmentRole::Boundary;
-  info.wall_particles = false;
+  declare_wall_sample_model(info);  // for every method that sums over wall samples (MethodInfo::wall_samples)
   info.create = [](const WallTreatmentSetup& setup) { return std::make_unique<DistanceFunction>(setup); };
   registry.add(std::move(info));
 }

@@ -64,10 +64,8 @@ void mps_lab_register_wall_treatment_dummy_layers(mps_lab::WallTreatmentRegistry
   info.name = "dummy_layers";
   info.description =
       "fixed dummy wall layers carrying the fluid pressure extrapolated hydrostatically (MPS; Adami et al. 2012 for SPH)";
-  info.methods = {};  // every method that sums over wall samples (MethodInfo::wall_samples)
   info.parameters.push_back(crossing_parameter("reflect"));
-  info.role = WallTreatmentRole::Boundary;
-  info.wall_particles = false;
+  declare_wall_sample_model(info);  // for every method that sums over wall samples (MethodInfo::wall_samples)
   info.create = [](const WallTreatmentSetup& setup) { return std::make_unique<DummyLayers>(setup); };
   registry.add(std::move(info));
 }

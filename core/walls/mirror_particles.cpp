@@ -127,13 +127,11 @@ void mps_lab_register_wall_treatment_mirror_particles(mps_lab::WallTreatmentRegi
   WallTreatmentInfo info;
   info.name = "mirror_particles";
   info.description = "images of the fluid reflected across straight walls, carrying their pressure and velocity";
-  info.methods = {};  // every method that sums over wall samples (MethodInfo::wall_samples)
   info.parameters = {string_parameter("velocity", "free_slip",
                                       "image velocity: free_slip (normal part reversed) or no_slip (reversed)")
                          .one_of({"free_slip", "no_slip"})};
   info.parameters.push_back(crossing_parameter("reflect"));
-  info.role = WallTreatmentRole::Boundary;
-  info.wall_particles = false;
+  declare_wall_sample_model(info);  // for every method that sums over wall samples (MethodInfo::wall_samples)
   info.create = [](const WallTreatmentSetup& setup) { return std::make_unique<MirrorParticles>(setup); };
   registry.add(std::move(info));
 }

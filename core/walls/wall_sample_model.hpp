@@ -29,6 +29,17 @@ class WallSampleModel : public WallTreatment {
   bool reflect_;
 };
 
+// What every boundary model of wall samples declares: the role, no wall particles (so a method
+// with MethodInfo::wall_samples may use it), and the hooks of WallSampleModel. The reflection
+// after the explicit position update is optional: a method whose only position update ends
+// the step (advection, then after_correction) reflects once, after the correction.
+inline void declare_wall_sample_model(WallTreatmentInfo& info) {
+  info.role = WallTreatmentRole::Boundary;
+  info.wall_particle_model.reset();
+  info.hooks = {WallHook::AfterExplicitPosition, WallHook::AfterCorrection};
+  info.optional_hooks = {WallHook::AfterExplicitPosition};
+}
+
 // The `crossing` parameter, with the model's default ("reflect" or "none").
 inline ParameterSpec crossing_parameter(const std::string& default_choice) {
   return string_parameter("crossing", default_choice,

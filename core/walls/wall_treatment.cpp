@@ -8,12 +8,58 @@
 
 namespace mps_lab {
 
+const char* wall_hook_name(WallHook hook) {
+  switch (hook) {
+    case WallHook::AfterExplicitVelocity: return "after_explicit_velocity";
+    case WallHook::AfterExplicitPosition: return "after_explicit_position";
+    case WallHook::AfterNeighbourSearch: return "after_neighbour_search";
+    case WallHook::AfterCorrection: return "after_correction";
+  }
+  return "unknown hook";
+}
+
+std::string WallHooks::names() const {
+  std::string out;
+  for (const WallHook hook : kAllWallHooks) {
+    if (!contains(hook)) continue;
+    out += (out.empty() ? "" : ", ") + std::string(wall_hook_name(hook));
+  }
+  return out.empty() ? "none" : out;
+}
+
+const char* wall_particle_pressure_name(WallParticlePressure model) {
+  switch (model) {
+    case WallParticlePressure::SolvedInPpe: return "solved_in_ppe";
+    case WallParticlePressure::AdamiExtrapolated: return "adami_extrapolated";
+    case WallParticlePressure::AkinciMirrored: return "akinci_mirrored";
+  }
+  return "unknown wall-particle model";
+}
+
+namespace {
+
+// The declarations of a treatment agree with each other (a programming error otherwise).
+void check_declarations(const WallTreatmentInfo& info) {
+  const std::string name = "wall treatment '" + info.name + "': ";
+  for (const auto& spec : info.parameters) {
+    if (spec.name == "enabled") throw std::logic_error(name + "'enabled' is reserved");
+  }
+  if (!info.hooks.contains(info.optional_hooks)) throw std::logic_error(name + "optional hooks it does not act at");
+  if (info.role == WallTreatmentRole::Measure && info.hooks.empty()) {
+    throw std::logic_error(name + "a measure declares the hooks where it acts");
+  }
+  if (info.role == WallTreatmentRole::Measure && info.wall_particle_model) {
+    throw std::logic_error(name + "a measure is no model of wall particles");
+  }
+}
+
+}  // namespace
+
 void WallTreatmentRegistry::add(WallTreatmentInfo info) {
   if (info.name.empty() || !info.create) throw std::logic_error("a wall treatment needs a name and a factory");
   const std::string name = info.name;
-  for (const auto& spec : info.parameters) {
-    if (spec.name == "enabled") throw std::logic_error("wall treatment '" + name + "': 'enabled' is reserved");
-  }
+  check_declarations(info);
+  info.wall_particles = info.wall_particle_model.has_value();
   if (!entries_.emplace(name, std::move(info)).second) {
     throw std::logic_error("wall treatment '" + name + "' registered twice");
   }
@@ -31,8 +77,8 @@ std::vector<const WallTreatmentInfo*> WallTreatmentRegistry::all() const {
 }
 
 WallTreatmentSet::WallTreatmentSet(const std::vector<WallTreatmentChoice>& choices, const Scene& scene,
-                                   PhaseTimers* timers)
-    : timers_(timers), phase_(phase_id(timers, "wall_treatment")) {
+                                   PhaseTimers* timers, WallHooks called)
+    : timers_(timers), phase_(phase_id(timers, "wall_treatment")), called_(called) {
   std::vector<const WallTreatmentChoice*> enabled;
   for (const auto& choice : choices) {
     if (choice.enabled) enabled.push_back(&choice);
@@ -41,13 +87,22 @@ WallTreatmentSet::WallTreatmentSet(const std::vector<WallTreatmentChoice>& choic
     return a->info->order < b->info->order;
   });
   for (const auto* choice : enabled) {
-    members_.emplace_back(choice->info->name, choice->info->create({scene, choice->parameters}));
-    check_all_read(choice->parameters, "wall treatment '" + choice->info->name + "'");
-    if (choice->info->role == WallTreatmentRole::Boundary) {
+    const WallTreatmentInfo& info = *choice->info;
+    const WallHooks missing = info.hooks.without(info.optional_hooks).without(called_);
+    if (!missing.empty()) {  // the scene loader refuses it (wall_treatment_supports); a set built by hand
+      throw std::logic_error("wall treatment '" + info.name + "' acts at " + missing.names() +
+                             ", which the method does not call");
+    }
+    members_.emplace_back(info.name, info.create({scene, choice->parameters}));
+    check_all_read(choice->parameters, "wall treatment '" + info.name + "'");
+    if (info.role == WallTreatmentRole::Boundary) {
       boundary_ = members_.back().second.get();
-      boundary_name_ = choice->info->name;
-      wall_particles_ = choice->info->wall_particles;
-      boundary_parameters_ = choice->parameters;
+      boundary_name_ = info.name;
+      wall_particles_ = info.wall_particles;
+      wall_particle_model_ = info.wall_particles ? dynamic_cast<const WallParticleModel*>(boundary_) : nullptr;
+      if (info.wall_particles && wall_particle_model_ == nullptr) {
+        throw std::logic_error("wall treatment '" + info.name + "' declares wall particles but is no WallParticleModel");
+      }
     }
   }
 }
@@ -68,19 +123,32 @@ const WallTreatmentChoice* boundary_choice(const std::vector<WallTreatmentChoice
   return nullptr;
 }
 
+// A method calls only the hooks it declares (MethodInfo::wall_hooks): a treatment's support
+// was computed from them.
+void WallTreatmentSet::check_called(WallHook hook) const {
+  if (!called_.contains(hook)) {
+    throw std::logic_error(std::string("a method called the wall hook ") + wall_hook_name(hook) +
+                           " it does not declare (MethodInfo::wall_hooks)");
+  }
+}
+
 void WallTreatmentSet::after_explicit_velocity(WallContext& context) {
+  check_called(WallHook::AfterExplicitVelocity);
   const auto timed = measure(timers_, phase_);
   for (auto& member : members_) member.second->after_explicit_velocity(context);
 }
 void WallTreatmentSet::after_explicit_position(WallContext& context) {
+  check_called(WallHook::AfterExplicitPosition);
   const auto timed = measure(timers_, phase_);
   for (auto& member : members_) member.second->after_explicit_position(context);
 }
 void WallTreatmentSet::after_neighbour_search(WallContext& context) {
+  check_called(WallHook::AfterNeighbourSearch);
   const auto timed = measure(timers_, phase_);
   for (auto& member : members_) member.second->after_neighbour_search(context);
 }
 void WallTreatmentSet::after_correction(WallContext& context) {
+  check_called(WallHook::AfterCorrection);
   const auto timed = measure(timers_, phase_);
   for (auto& member : members_) member.second->after_correction(context);
 }

@@ -12,8 +12,9 @@
 //   8. advection x^{n+1} = x^n + dt v^{n+1};                          [after_correction]
 //      escaped fluid particles become ghosts.
 // Bracketed: the wall-treatment hooks (no measure is on by default for dfsph). The wall is the
-// run's boundary model: Akinci boundary particles (akinci_boundary, the default; its `layers`
-// and `volume` are read here), or wall samples (dummy_layers, mirror_particles,
+// run's boundary model: Akinci boundary particles (akinci_boundary, the default: the
+// wall-particle model AkinciMirrored, whose layers and volume rule this method reads from its
+// WallParticleModel), or wall samples (dummy_layers, mirror_particles,
 // distance_function) rebuilt right after every neighbour search and summed in every operator
 // like boundary particles (methods/dfsph/dfsph_operators.hpp). Decisions where the papers
 // leave a choice are listed in docs/methods/dfsph.md.
@@ -86,11 +87,16 @@ struct SolverTotals {
   }
 };
 
+// The wall hooks the step calls (MethodInfo::wall_hooks): no explicit position update, so no
+// after_explicit_position; the advection ends the step with after_correction.
+constexpr WallHooks kWallHooks = {WallHook::AfterNeighbourSearch, WallHook::AfterExplicitVelocity,
+                                  WallHook::AfterCorrection};
+
 class DfsphMethod final : public Method {
  public:
   explicit DfsphMethod(const MethodSetup& setup)
       : scene_(setup.scene),
-        walls_(setup.wall_treatments, setup.scene, setup.timers),
+        walls_(setup.wall_treatments, setup.scene, setup.timers, kWallHooks),
         timers_(setup.timers),
         search_phase_(phase_id(timers_, "neighbour_search")),
         operators_phase_(phase_id(timers_, "operators")),
@@ -112,13 +118,16 @@ class DfsphMethod final : public Method {
     divergence_min_neighbours_ = static_cast<std::uint32_t>(
         std::ceil(p.number("divergence_neighbour_fraction") * static_cast<double>(full_neighbour_count_) - 1e-9));
     sample_hydrostatic_ = p.boolean("wall_sample_hydrostatic");
-    if (walls_.boundary_name() == "akinci_boundary") {  // the particle model this method implements
-      const ParameterValues& boundary = walls_.boundary_parameters();
-      boundary_wall_layers_ = static_cast<int>(boundary.integer("layers"));
-      boundary_volume_ = boundary_volume_from_name(boundary.string("volume"));
+    if (const WallParticleModel* model = walls_.wall_particle_model()) {  // akinci_boundary
+      if (model->pressure() != WallParticlePressure::AkinciMirrored) {
+        throw std::logic_error(std::string("dfsph: wall-particle model ") +
+                               wall_particle_pressure_name(model->pressure()) + " is not implemented by this method");
+      }
+      boundary_wall_layers_ = model->pressure_layers();
+      boundary_volume_ =
+          model->volume() == WallParticleVolume::KernelSum ? BoundaryVolume::Akinci : BoundaryVolume::Lattice;
     } else if (walls_.wall_particles()) {
-      throw std::logic_error("dfsph: boundary model '" + walls_.boundary_name() +
-                             "' of wall particles is not implemented by this method");
+      throw std::logic_error("dfsph: a boundary model of wall particles without a wall-particle model");
     } else {
       boundary_wall_layers_ = 0;  // no wall particles in the ParticleSet: the wall is samples
     }
@@ -530,6 +539,8 @@ void mps_lab_register_method_dfsph(mps_lab::MethodRegistry& registry) {
   info.parameters.insert(info.parameters.begin() + 2, time_step_specs.begin(), time_step_specs.end());
   info.default_wall_treatments = {"akinci_boundary"};
   info.wall_samples = true;  // its operators sum over wall samples (core/walls/wall_samples.hpp)
+  info.wall_particle_models = {WallParticlePressure::AkinciMirrored};  // akinci_boundary
+  info.wall_hooks = dfsph::kWallHooks;
   info.create = [](const MethodSetup& setup) { return std::make_unique<dfsph::DfsphMethod>(setup); };
   registry.add(std::move(info));
 }

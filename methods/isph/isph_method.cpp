@@ -45,11 +45,14 @@ SourceTerm source_term_from_name(const std::string& name) {
 // (1997) and Cummins & Rudman (1999) use; it changes the pair factor by <= 1.4 % at r = l0.
 constexpr double kEtaOverSmoothingLength = 0.1;
 
+// The wall hooks the step calls (MethodInfo::wall_hooks): the four points of the MPS step.
+constexpr WallHooks kWallHooks = WallHooks::all();
+
 class IsphMethod final : public Method {
  public:
   explicit IsphMethod(const MethodSetup& setup)
       : scene_(setup.scene),
-        walls_(setup.wall_treatments, setup.scene, setup.timers),
+        walls_(setup.wall_treatments, setup.scene, setup.timers, kWallHooks),
         timers_(setup.timers),
         search_phase_(phase_id(timers_, "neighbour_search")),
         operators_phase_(phase_id(timers_, "operators")),
@@ -531,6 +534,8 @@ void mps_lab_register_method_isph(mps_lab::MethodRegistry& registry) {
   // Every operator and the PPE also sum over wall samples: dummy_layers, mirror_particles,
   // distance_function (docs/methods/isph.md, "Wall boundary models").
   info.wall_samples = true;
+  info.wall_particle_models = {WallParticlePressure::AdamiExtrapolated};  // adami_wall_particles
+  info.wall_hooks = isph::kWallHooks;
   // The step: the scene's fixed step by default (as mps); "cfl" adapts it to the flow. 0.25
   // keeps a margin below the largest stable fixed Courant number 0.4 measured with
   // U = sqrt(2 g H) >= v_max (docs/stability.md).

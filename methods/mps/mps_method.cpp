@@ -8,6 +8,8 @@
 // Bracketed steps are wall treatments (core/walls/), on by default, each switchable.
 // Decisions where the spec is open are documented in docs/methods/mps.md.
 #include <algorithm>
+#include <stdexcept>
+#include <string>
 #include <cmath>
 #include <memory>
 
@@ -22,11 +24,14 @@
 namespace mps_lab::mps {
 namespace {
 
+// The wall hooks the step calls (MethodInfo::wall_hooks): all four points of spec §5.
+constexpr WallHooks kWallHooks = WallHooks::all();
+
 class MpsMethod final : public Method {
  public:
   explicit MpsMethod(const MethodSetup& setup)
       : scene_(setup.scene),
-        walls_(setup.wall_treatments, setup.scene, setup.timers),
+        walls_(setup.wall_treatments, setup.scene, setup.timers, kWallHooks),
         timers_(setup.timers),
         search_phase_(phase_id(timers_, "neighbour_search")),
         operators_phase_(phase_id(timers_, "operators")),
@@ -40,10 +45,14 @@ class MpsMethod final : public Method {
     gradient_radius_ = make_operator_radius(l0, p.number("re_gradient") * l0, r_min);
     laplacian_radius_ = make_operator_radius(l0, p.number("re_laplacian") * l0, r_min);
     search_radius_ = std::max({density_radius_.re, gradient_radius_.re, laplacian_radius_.re});
-    // spec_wall_particles: which wall layers carry pressure (the other boundary models have
-    // no wall particles; their wall samples carry extrapolated pressures).
-    if (walls_.wall_particles()) {
-      pressure_wall_layers_ = static_cast<int>(walls_.boundary_parameters().integer("pressure_layers"));
+    // The wall-particle model (spec_wall_particles): which wall layers carry pressure (the other
+    // boundary models have no wall particles; their wall samples carry extrapolated pressures).
+    if (const WallParticleModel* model = walls_.wall_particle_model()) {
+      if (model->pressure() != WallParticlePressure::SolvedInPpe) {
+        throw std::logic_error(std::string("mps: wall-particle model ") + wall_particle_pressure_name(model->pressure()) +
+                               " is not implemented by this method");
+      }
+      pressure_wall_layers_ = model->pressure_layers();
     }
     min_includes_self_ = p.boolean("min_pressure_includes_self");
     settings_.density = scene_.physics.density;
@@ -335,6 +344,8 @@ void mps_lab_register_method_mps(mps_lab::MethodRegistry& registry) {
   info.default_wall_treatments = {"spec_wall_particles", "cfl_velocity_clamp", "wall_repulsion", "wall_position_clamp",
                                  "particle_collision"};
   info.wall_samples = true;
+  info.wall_particle_models = {WallParticlePressure::SolvedInPpe};  // spec_wall_particles
+  info.wall_hooks = mps::kWallHooks;
   info.create = [](const MethodSetup& setup) { return std::make_unique<mps::MpsMethod>(setup); };
   registry.add(std::move(info));
 }
