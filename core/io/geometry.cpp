@@ -64,38 +64,50 @@ void check_lattice(const Scene& scene) {
   }
 }
 
-ParticleSet build_particles(const Scene& scene, bool wall_particles) {
-  const double l0 = scene.particle_spacing;
-  const Vec2 origin = scene.domain.min;
-  const long long nx = whole_spacings(scene.domain.max.x() - origin.x(), l0, scene, "width");
-  const long long ny = whole_spacings(scene.domain.max.y() - origin.y(), l0, scene, "height");
-  const TankWalls& walls = scene.walls;
-  const long long layers = walls.layers;
-  const auto lattice = [&](long long i, long long j) {
+namespace {
+
+// The lattice of the spec's initial particles (spec §4): origin + (i, j) l0.
+struct Lattice {
+  Vec2 origin;
+  double l0;  // m
+  Vec2 operator()(long long i, long long j) const {
     return Vec2(origin.x() + static_cast<double>(i) * l0, origin.y() + static_cast<double>(j) * l0);
-  };
+  }
+};
 
-  ParticleSet particles;
+// A box in lattice indices, corners included.
+struct LatticeBox {
+  long long i0, j0, i1, j1;
+};
 
-  // Obstacles in lattice indices (their corners are lattice points: the scene loader checks).
-  struct LatticeBox {
-    long long i0, j0, i1, j1;
-  };
+using LatticePoints = std::set<std::pair<long long, long long>>;  // (j, i)
+
+// Obstacles in lattice indices (their corners are lattice points: the scene loader checks).
+std::vector<LatticeBox> lattice_obstacles(const Scene& scene, const Lattice& lattice) {
+  const Vec2 origin = lattice.origin;
+  const double l0 = lattice.l0;
   std::vector<LatticeBox> obstacles;
   for (const Box& box : scene.walls.obstacles) {
     obstacles.push_back({std::llround((box.min.x() - origin.x()) / l0), std::llround((box.min.y() - origin.y()) / l0),
                          std::llround((box.max.x() - origin.x()) / l0), std::llround((box.max.y() - origin.y()) / l0)});
   }
-  const auto in_obstacle = [&](long long i, long long j) {
-    for (const auto& b : obstacles) {
-      if (i >= b.i0 && i <= b.i1 && j >= b.j0 && j <= b.j1) return true;
-    }
-    return false;
-  };
+  return obstacles;
+}
 
-  // Fluid first: lattice points strictly inside any block (blocks may overlap), outside the
-  // obstacles (an obstacle's lattice points are wall).
-  std::set<std::pair<long long, long long>> fluid_points;
+bool in_obstacle(const std::vector<LatticeBox>& obstacles, long long i, long long j) {
+  for (const auto& b : obstacles) {
+    if (i >= b.i0 && i <= b.i1 && j >= b.j0 && j <= b.j1) return true;
+  }
+  return false;
+}
+
+// Fluid first: lattice points strictly inside any block (blocks may overlap), outside the
+// obstacles (an obstacle's lattice points are wall). Returns the fluid's lattice points.
+LatticePoints add_fluid(const Scene& scene, const Lattice& lattice, const std::vector<LatticeBox>& obstacles,
+                        ParticleSet& particles) {
+  const Vec2 origin = lattice.origin;
+  const double l0 = lattice.l0;
+  LatticePoints fluid_points;
   const double eps = 1e-9 * l0;
   for (std::size_t k = 0; k < scene.fluid_blocks.size(); ++k) {
     const auto& block = scene.fluid_blocks[k];
@@ -110,7 +122,7 @@ ParticleSet build_particles(const Scene& scene, bool wall_particles) {
         if (strictly_inside(x.x(), block.region.min.x(), block.region.max.x(), eps) &&
             strictly_inside(x.y(), block.region.min.y(), block.region.max.y(), eps)) {
           ++inside;
-          if (in_obstacle(i, j)) continue;
+          if (in_obstacle(obstacles, i, j)) continue;
           if (fluid_points.insert({j, i}).second) {
             particles.add(x, block.velocity, ParticleType::Fluid);
           }
@@ -119,10 +131,31 @@ ParticleSet build_particles(const Scene& scene, bool wall_particles) {
     }
     if (inside == 0) throw_empty_block(scene, k);
   }
-  if (!wall_particles) return particles;  // the boundary model builds its own wall (wall samples)
+  return fluid_points;
+}
 
-  // Walls. Layer = 1 + how many spacings the point lies outside the fluid region along
-  // the walled directions (Chebyshev distance), so corner blocks belong to outer layers.
+// Adds wall particles at lattice points, each once, never where a block keeps its fluid.
+class WallBuilder {
+ public:
+  WallBuilder(const Lattice& lattice, const LatticePoints& fluid_points, ParticleSet& particles)
+      : lattice_(lattice), fluid_points_(fluid_points), particles_(particles) {}
+  void add(long long i, long long j, std::uint8_t layer) {
+    if (fluid_points_.count({j, i}) != 0) return;  // a block reaching the wall keeps its fluid
+    if (!wall_points_.insert({j, i}).second) return;
+    particles_.add(lattice_(i, j), Vec2::Zero(), ParticleType::Wall, layer);
+  }
+
+ private:
+  const Lattice& lattice_;
+  const LatticePoints& fluid_points_;
+  ParticleSet& particles_;
+  LatticePoints wall_points_;
+};
+
+// The tank's walls. Layer = 1 + how many spacings the point lies outside the fluid region
+// along the walled directions (Chebyshev distance), so corner blocks belong to outer layers.
+void add_tank_walls(const TankWalls& walls, long long nx, long long ny, WallBuilder& builder) {
+  const long long layers = walls.layers;
   const auto layer_of = [&](long long i, long long j) {
     long long outside = 0;
     if (walls.left) outside = std::max(outside, -i);
@@ -133,13 +166,7 @@ ParticleSet build_particles(const Scene& scene, bool wall_particles) {
   };
   const long long i_min = walls.left ? -(layers - 1) : 0;
   const long long i_max = walls.right ? nx + layers - 1 : nx;
-  std::set<std::pair<long long, long long>> wall_points;
-  const auto add_wall_in_layer = [&](long long i, long long j, std::uint8_t layer) {
-    if (fluid_points.count({j, i}) != 0) return;  // a block reaching the wall keeps its fluid
-    if (!wall_points.insert({j, i}).second) return;
-    particles.add(lattice(i, j), Vec2::Zero(), ParticleType::Wall, layer);
-  };
-  const auto add_wall = [&](long long i, long long j) { add_wall_in_layer(i, j, layer_of(i, j)); };
+  const auto add_wall = [&](long long i, long long j) { builder.add(i, j, layer_of(i, j)); };
   if (walls.bottom) {
     for (long long k = 0; k < layers; ++k) {
       for (long long i = i_min; i <= i_max; ++i) add_wall(i, -k);
@@ -158,16 +185,36 @@ ParticleSet build_particles(const Scene& scene, bool wall_particles) {
       for (long long i = i_min; i <= i_max; ++i) add_wall(i, ny + k);
     }
   }
-  // Obstacles: `layers` layers from the box sides inwards (layer 1 on the sides), the core of
-  // a thick box left empty as the outer tank layers end; points the tank walls hold are theirs.
+}
+
+// Obstacles: `layers` layers from the box sides inwards (layer 1 on the sides), the core of
+// a thick box left empty as the outer tank layers end; points the tank walls hold are theirs.
+void add_obstacle_walls(const std::vector<LatticeBox>& obstacles, long long layers, WallBuilder& builder) {
   for (const auto& b : obstacles) {
     for (long long j = b.j0; j <= b.j1; ++j) {
       for (long long i = b.i0; i <= b.i1; ++i) {
         const long long inward = std::min({i - b.i0, b.i1 - i, j - b.j0, b.j1 - j});
-        if (inward < layers) add_wall_in_layer(i, j, static_cast<std::uint8_t>(1 + inward));
+        if (inward < layers) builder.add(i, j, static_cast<std::uint8_t>(1 + inward));
       }
     }
   }
+}
+
+}  // namespace
+
+ParticleSet build_particles(const Scene& scene, bool wall_particles) {
+  const double l0 = scene.particle_spacing;
+  const Vec2 origin = scene.domain.min;
+  const long long nx = whole_spacings(scene.domain.max.x() - origin.x(), l0, scene, "width");
+  const long long ny = whole_spacings(scene.domain.max.y() - origin.y(), l0, scene, "height");
+  const Lattice lattice{origin, l0};
+  ParticleSet particles;
+  const std::vector<LatticeBox> obstacles = lattice_obstacles(scene, lattice);
+  const LatticePoints fluid_points = add_fluid(scene, lattice, obstacles, particles);
+  if (!wall_particles) return particles;  // the boundary model builds its own wall (wall samples)
+  WallBuilder builder(lattice, fluid_points, particles);
+  add_tank_walls(scene.walls, nx, ny, builder);
+  add_obstacle_walls(obstacles, scene.walls.layers, builder);
   return particles;
 }
 

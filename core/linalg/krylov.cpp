@@ -43,12 +43,23 @@ inline double row_product(const double* value, const int* column, const double* 
   return even + odd;
 }
 
+// Two blocked sums at once: partial[b] and partial[blocks + b], each added in block order.
+std::pair<double, double> sum_pairs_in_order(const std::vector<double>& partial, int blocks) {
+  double first = 0.0, second = 0.0;
+  for (int b = 0; b < blocks; ++b) {
+    first += partial[static_cast<std::size_t>(b)];
+    second += partial[static_cast<std::size_t>(blocks + b)];
+  }
+  return {first, second};
+}
+
 // One pass over the rows of A x in fixed blocks: row_sum = (A x)_r is handed to
-// visit(r, row_sum), which stores what it needs and returns the row's term of a sum; the
-// terms are summed per block, the block sums in block order (the same bits for any thread
-// count). Returns that sum.
+// visit(r, row_sum, first, second), which stores what it needs and adds the row's terms to
+// two sums; the block sums go to partial[b] and partial[blocks + b] (partial holds 2 blocks
+// entries) and are added in block order (the same bits for any thread count).
 template <typename Visit>
-double blocked_row_products(const CsrMatrix& matrix, const double* x, std::vector<double>& partial, Visit visit) {
+std::pair<double, double> blocked_row_products(const CsrMatrix& matrix, const double* x, std::vector<double>& partial,
+                                               Visit visit) {
   const int rows = matrix.rows;
   const int blocks = block_count(rows);
   const int* start = matrix.row_start.data();
@@ -57,40 +68,38 @@ double blocked_row_products(const CsrMatrix& matrix, const double* x, std::vecto
 #pragma omp parallel for schedule(static)
   for (int b = 0; b < blocks; ++b) {
     const BlockRange range = block_range(b, rows);
-    double sum = 0.0;
+    double first = 0.0, second = 0.0;
     for (int r = range.begin; r < range.end; ++r) {
-      sum += visit(r, row_product(value, column, x, start[r], start[r + 1]));
+      visit(r, row_product(value, column, x, start[r], start[r + 1]), first, second);
     }
-    partial[static_cast<std::size_t>(b)] = sum;
+    partial[static_cast<std::size_t>(b)] = first;
+    partial[static_cast<std::size_t>(blocks + b)] = second;
   }
-  return sum_in_order(partial, blocks);
+  return sum_pairs_in_order(partial, blocks);
 }
 
-// out = A x, returns x . out (both in one pass over the rows).
-double multiply_dot(const CsrMatrix& matrix, const double* x, double* out, std::vector<double>& partial) {
-  return blocked_row_products(matrix, x, partial, [&](int r, double row_sum) {
-    out[r] = row_sum;
-    return x[r] * row_sum;
-  });
-}
-
-// out = A x, returns shadow . out.
+// out = A x, returns shadow . out (both in one pass over the rows).
 double multiply_dot_with(const CsrMatrix& matrix, const double* x, const double* shadow, double* out,
                          std::vector<double>& partial) {
-  return blocked_row_products(matrix, x, partial, [&](int r, double row_sum) {
-    out[r] = row_sum;
-    return shadow[r] * row_sum;
-  });
+  return blocked_row_products(matrix, x, partial, [&](int r, double row_sum, double& sum, double&) {
+           out[r] = row_sum;
+           sum += shadow[r] * row_sum;
+         }).first;
+}
+
+// out = A x, returns x . out.
+double multiply_dot(const CsrMatrix& matrix, const double* x, double* out, std::vector<double>& partial) {
+  return multiply_dot_with(matrix, x, x, out, partial);
 }
 
 // residual = rhs - A x, returns ||residual||^2.
 double residual_norm2(const CsrMatrix& matrix, const double* rhs, const double* x, double* residual,
                       std::vector<double>& partial) {
-  return blocked_row_products(matrix, x, partial, [&](int r, double row_sum) {
-    const double difference = rhs[r] - row_sum;
-    residual[r] = difference;
-    return difference * difference;
-  });
+  return blocked_row_products(matrix, x, partial, [&](int r, double row_sum, double& sum, double&) {
+           const double difference = rhs[r] - row_sum;
+           residual[r] = difference;
+           sum += difference * difference;
+         }).first;
 }
 
 double blocked_dot(const double* a, const double* b, int rows, std::vector<double>& partial) {
@@ -404,30 +413,11 @@ BicgstabVectors bicgstab_vectors(KrylovWorkspace& work, int rows) {
 // t = A z, returns t.t and t.s (one pass).
 std::pair<double, double> multiply_two_dots(const CsrMatrix& matrix, const double* z, const double* s, double* t,
                                             std::vector<double>& partial) {
-  const int rows = matrix.rows;
-  const int blocks = block_count(rows);
-  const int* start = matrix.row_start.data();
-  const int* column = matrix.column.data();
-  const double* value = matrix.value.data();
-#pragma omp parallel for schedule(static)
-  for (int b = 0; b < blocks; ++b) {
-    const BlockRange range = block_range(b, rows);
-    double tt = 0.0, ts = 0.0;
-    for (int i = range.begin; i < range.end; ++i) {
-      const double row_sum = row_product(value, column, z, start[i], start[i + 1]);
-      t[i] = row_sum;
-      tt += row_sum * row_sum;
-      ts += row_sum * s[i];
-    }
-    partial[static_cast<std::size_t>(b)] = tt;
-    partial[static_cast<std::size_t>(blocks + b)] = ts;
-  }
-  double tt = 0.0, ts = 0.0;
-  for (int b = 0; b < blocks; ++b) {
-    tt += partial[static_cast<std::size_t>(b)];
-    ts += partial[static_cast<std::size_t>(blocks + b)];
-  }
-  return {tt, ts};
+  return blocked_row_products(matrix, z, partial, [&](int i, double row_sum, double& tt, double& ts) {
+    t[i] = row_sum;
+    tt += row_sum * row_sum;
+    ts += row_sum * s[i];
+  });
 }
 
 // x += alpha y + omega z, r = s - omega t; returns ||r||^2 and r0 . r (one pass).
@@ -448,12 +438,7 @@ std::pair<double, double> bicgstab_update(double alpha, double omega, const Bicg
     partial[static_cast<std::size_t>(b)] = rr;
     partial[static_cast<std::size_t>(blocks + b)] = r0r;
   }
-  double residual_norm2_now = 0.0, rho_new = 0.0;
-  for (int b = 0; b < blocks; ++b) {
-    residual_norm2_now += partial[static_cast<std::size_t>(b)];
-    rho_new += partial[static_cast<std::size_t>(blocks + b)];
-  }
-  return {residual_norm2_now, rho_new};
+  return sum_pairs_in_order(partial, blocks);  // ||r||^2, r0 . r
 }
 
 // One start of BiCGSTAB from the residual r = b - A x (norm2 = ||r||^2): shadow residual

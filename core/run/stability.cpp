@@ -150,14 +150,11 @@ void StabilityMonitor::stop(const std::string& status, long long step, double ti
   throw RunStopped(status, prefix + reason);
 }
 
-void StabilityMonitor::check_step(const ParticleSet& particles, const StepReport& report, long long step,
-                                  double time, double dt) {
-  const double l0 = scene_.particle_spacing;
-  const bool stop_divergence = settings_.stop_on_divergence;
-  // One parallel pass (exact reductions only: max, min, counts; the same result for any
-  // thread count): finiteness (ghosts too: a NaN position makes a particle a ghost), the
-  // largest speed, fluid beyond a wall's first particle line, the closest approach to a wall
-  // and the ghosts.
+// One parallel pass (exact reductions only: max, min, counts; the same result for any
+// thread count): finiteness (ghosts too: a NaN position makes a particle a ghost), the
+// largest speed, fluid beyond a wall's first particle line, the closest approach to a wall
+// and the ghosts.
+StabilityMonitor::ParticleScan StabilityMonitor::scan_particles(const ParticleSet& particles) const {
   double max_speed2 = 0.0;
   std::size_t ghosts = 0;
   std::size_t beyond_walls = 0;
@@ -185,36 +182,12 @@ void StabilityMonitor::check_step(const ParticleSet& particles, const StepReport
     beyond_walls += depth > beyond_depth ? 1 : 0;
     min_wall_distance = std::min(min_wall_distance, depth > 0.0 ? -depth : geometry_->distance(x));
   }
-  if (first_non_finite < count) {
-    const std::string reason =
-        "particle " + std::to_string(first_non_finite) + " has a non-finite position, velocity or pressure";
-    record(step, time, kNonFinite, reason);
-    stop("diverged", step, time, reason);  // always: there is nothing to continue from
-  }
-  state_.min_wall_distance = min_wall_distance;
+  return {max_speed2, ghosts, beyond_walls, min_wall_distance, first_non_finite < count ? first_non_finite : -1};
+}
 
-  state_.last_courant = std::sqrt(max_speed2) * dt / l0;
-  if (state_.last_courant > settings_.courant_limit) {
-    const std::string reason = format("the Courant number max|u| dt/l0 = %.3g exceeds stability.courant_limit = %.3g "
-                                      "(max |u| = %.3g m/s)",
-                                      state_.last_courant, settings_.courant_limit, std::sqrt(max_speed2));
-    record(step, time, kCourant, reason);
-    if (stop_divergence) stop("diverged", step, time, reason);
-  }
-
-  if (report.speed_limited_particles > 0) {
-    const double fraction = static_cast<double>(report.speed_limited_particles) /
-                            static_cast<double>(std::max<std::size_t>(state_.initial_fluid, 1));
-    const std::string reason =
-        "a wall treatment capped the speed of " + std::to_string(report.speed_limited_particles) +
-        format(" fluid particles (%.3g %% of the fluid): the time step is beyond what the flow allows", 100.0 * fraction);
-    record(step, time, kSpeedLimited, reason);
-    if (fraction > settings_.max_speed_limited_fraction && stop_divergence) {
-      stop("diverged", step, time,
-           reason + format(" (stability.max_speed_limited_fraction = %.3g)", settings_.max_speed_limited_fraction));
-    }
-  }
-
+// Energy from nowhere: (E - E0) / E_scale beyond the limit.
+void StabilityMonitor::check_energy(const ParticleSet& particles, long long step, double time) {
+  const bool stop_divergence = settings_.stop_on_divergence;
   state_.last_energy = mechanical_energy(particles, scene_);
   const double growth = (state_.last_energy - state_.initial_energy) / state_.energy_scale;
   if (growth > settings_.energy_growth_limit) {
@@ -226,9 +199,12 @@ void StabilityMonitor::check_step(const ParticleSet& particles, const StepReport
     record(step, time, kEnergyGrowth, reason);
     if (stop_divergence) stop("diverged", step, time, reason);
   }
+}
 
-  // New ghosts: through a wall (penetration) or through an open side (escaped). Ghosts keep
-  // the position at which they left, so the totals only grow.
+// New ghosts: through a wall (penetration) or through an open side (escaped). Ghosts keep
+// the position at which they left, so the totals only grow.
+void StabilityMonitor::check_ghosts(const ParticleSet& particles, std::size_t ghosts, long long step, double time) {
+  const bool stop_divergence = settings_.stop_on_divergence;
   if (ghosts > state_.ghosts) {
     std::size_t through_walls = 0;
     for (std::size_t i = 0; i < particles.size(); ++i) {
@@ -250,6 +226,11 @@ void StabilityMonitor::check_step(const ParticleSet& particles, const StepReport
       }
     }
   }
+}
+
+// Fluid inside a wall or through it, beyond the allowed number.
+void StabilityMonitor::check_penetrations(std::size_t beyond_walls, long long step, double time) {
+  const bool stop_divergence = settings_.stop_on_divergence;
   const std::size_t penetrations = beyond_walls + state_.ghosts_through_walls;
   if (beyond_walls > 0 || penetrations > state_.last_penetrations) {
     const std::string reason = std::to_string(penetrations) +
@@ -262,7 +243,41 @@ void StabilityMonitor::check_step(const ParticleSet& particles, const StepReport
     }
   }
   state_.last_penetrations = penetrations;
+}
 
+// The speed capped by a wall treatment (a time step beyond what the flow allows), and the
+// Courant number.
+void StabilityMonitor::check_speed(const StepReport& report, double max_speed2, long long step, double time,
+                                   double dt) {
+  const double l0 = scene_.particle_spacing;
+  const bool stop_divergence = settings_.stop_on_divergence;
+  state_.last_courant = std::sqrt(max_speed2) * dt / l0;
+  if (state_.last_courant > settings_.courant_limit) {
+    const std::string reason = format("the Courant number max|u| dt/l0 = %.3g exceeds stability.courant_limit = %.3g "
+                                      "(max |u| = %.3g m/s)",
+                                      state_.last_courant, settings_.courant_limit, std::sqrt(max_speed2));
+    record(step, time, kCourant, reason);
+    if (stop_divergence) stop("diverged", step, time, reason);
+  }
+
+  if (report.speed_limited_particles > 0) {
+    const double fraction = static_cast<double>(report.speed_limited_particles) /
+                            static_cast<double>(std::max<std::size_t>(state_.initial_fluid, 1));
+    const std::string reason =
+        "a wall treatment capped the speed of " + std::to_string(report.speed_limited_particles) +
+        format(" fluid particles (%.3g %% of the fluid): the time step is beyond what the flow allows", 100.0 * fraction);
+    record(step, time, kSpeedLimited, reason);
+    if (fraction > settings_.max_speed_limited_fraction && stop_divergence) {
+      stop("diverged", step, time,
+           reason + format(" (stability.max_speed_limited_fraction = %.3g)", settings_.max_speed_limited_fraction));
+    }
+  }
+}
+
+// Every density_check_every_steps: the common density error; and the solver's convergence.
+void StabilityMonitor::check_density_and_solver(const ParticleSet& particles, const StepReport& report,
+                                                long long step, double time) {
+  const bool stop_divergence = settings_.stop_on_divergence;
   if (step % settings_.density_check_every_steps == 0) {
     state_.last_density_error = common_density_error(particles, scene_, *density_workspace_);
     if (state_.last_density_error > settings_.density_error_limit) {
@@ -279,6 +294,23 @@ void StabilityMonitor::check_step(const ParticleSet& particles, const StepReport
     record(step, time, kSolver, reason);
     if (settings_.stop_on_solver_failure) stop("solver_failed", step, time, reason);
   }
+}
+
+void StabilityMonitor::check_step(const ParticleSet& particles, const StepReport& report, long long step,
+                                  double time, double dt) {
+  const ParticleScan scan = scan_particles(particles);
+  if (scan.first_non_finite >= 0) {
+    const std::string reason =
+        "particle " + std::to_string(scan.first_non_finite) + " has a non-finite position, velocity or pressure";
+    record(step, time, kNonFinite, reason);
+    stop("diverged", step, time, reason);  // always: there is nothing to continue from
+  }
+  state_.min_wall_distance = scan.min_wall_distance;
+  check_speed(report, scan.max_speed2, step, time, dt);
+  check_energy(particles, step, time);
+  check_ghosts(particles, scan.ghosts, step, time);
+  check_penetrations(scan.beyond_walls, step, time);
+  check_density_and_solver(particles, report, step, time);
 }
 
 void StabilityMonitor::check_blow_up(const ParticleSet& particles, long long step, double time,

@@ -135,6 +135,20 @@ class StabilityMonitor {
   nlohmann::json summary() const;
 
  private:
+  // What one pass over the particles finds (scan_particles).
+  struct ParticleScan {
+    double max_speed2 = 0.0;              // m^2/s^2
+    std::size_t ghosts = 0;
+    std::size_t beyond_walls = 0;         // fluid beyond a wall's first particle line
+    double min_wall_distance = 0.0;       // m
+    std::ptrdiff_t first_non_finite = -1;  // -1: every particle finite
+  };
+  ParticleScan scan_particles(const ParticleSet& particles) const;
+  void check_speed(const StepReport& report, double max_speed2, long long step, double time, double dt);
+  void check_energy(const ParticleSet& particles, long long step, double time);
+  void check_ghosts(const ParticleSet& particles, std::size_t ghosts, long long step, double time);
+  void check_penetrations(std::size_t beyond_walls, long long step, double time);
+  void check_density_and_solver(const ParticleSet& particles, const StepReport& report, long long step, double time);
   bool beyond_a_wall(const Vec2& x) const;
   void record(long long step, double time, std::size_t kind, const std::string& detail);
   [[noreturn]] void stop(const std::string& status, long long step, double time, const std::string& reason) const;

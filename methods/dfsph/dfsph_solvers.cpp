@@ -88,6 +88,21 @@ inline std::ptrdiff_t block_last(const IterationArrays& a, std::ptrdiff_t block)
   return std::min(a.fluid_count, (block + 1) * static_cast<std::ptrdiff_t>(kErrorBlock));
 }
 
+// sum_k term(k) over the neighbour pairs k of particle i, in two partial sums (even and odd
+// pairs), which halves the chain of dependent additions.
+template <typename Term>
+inline Vec2 pair_sum(const IterationArrays& a, std::uint32_t i, Term term) {
+  Vec2 even = Vec2::Zero(), odd = Vec2::Zero();
+  std::uint32_t k = a.offsets[i];
+  const std::uint32_t end = a.offsets[i + 1];
+  for (; k + 1 < end; k += 2) {
+    even += term(k);
+    odd += term(k + 1);
+  }
+  if (k < end) even += term(k);
+  return even + odd;
+}
+
 // correct: kappa_i += its pending increment, and the pressure correction
 //   v_i <- v_i - dt [ sum_j m (s_i + s_j) grad W_ij + sum_b Psi_b s_i grad W_ib ]   ([BK17] eqs. (7)-(8))
 //        = v_i - dt sum_j (s_i + s_j) c_ij        (a boundary neighbour has s = 0: p_b = p_i, once,
@@ -99,8 +114,6 @@ inline std::ptrdiff_t block_last(const IterationArrays& a, std::ptrdiff_t block)
 // Called by every thread of the solver's parallel region (an orphaned omp for).
 void correct(const IterationArrays& a, double dt, std::vector<double>& stiffness) {
   const double* s = a.s;
-  const Vec2* coefficient = a.coefficient;
-  const std::uint32_t* neighbour = a.neighbour;
 #pragma omp for schedule(static)
   for (std::ptrdiff_t block = 0; block < a.blocks; ++block) {
     const std::ptrdiff_t last = block_last(a, block);
@@ -108,15 +121,8 @@ void correct(const IterationArrays& a, double dt, std::vector<double>& stiffness
       const std::uint32_t i = a.fluid[f];
       stiffness[i] += a.increment[i];
       const double s_i = s[i];
-      Vec2 even = Vec2::Zero(), odd = Vec2::Zero();  // sum (s_i + s_j) c_ij: (1/rho) grad p, m/s^2
-      std::uint32_t k = a.offsets[i];
-      const std::uint32_t end = a.offsets[i + 1];
-      for (; k + 1 < end; k += 2) {
-        even += (s_i + s[neighbour[k]]) * coefficient[k];
-        odd += (s_i + s[neighbour[k + 1]]) * coefficient[k + 1];
-      }
-      if (k < end) even += (s_i + s[neighbour[k]]) * coefficient[k];
-      Vec2 gradient = even + odd;
+      // sum (s_i + s_j) c_ij: (1/rho) grad p, m/s^2
+      Vec2 gradient = pair_sum(a, i, [&](std::uint32_t k) -> Vec2 { return (s_i + s[a.neighbour[k]]) * a.coefficient[k]; });
       if (a.samples != nullptr) {
         // The constraint force of the samples: -s_i G_ii (for a sample at rest Psi_w s_i grad W_iw,
         // [AIA12]'s mirroring), and the reaction of every constraint k whose samples move with i
@@ -140,25 +146,16 @@ void correct(const IterationArrays& a, double dt, std::vector<double>& stiffness
 // Called by every thread of the solver's parallel region (an orphaned omp for).
 template <class Settle>
 double predict(const IterationArrays& a, const std::vector<double>& density, const SolverWorkspace& w, Settle& settle) {
-  const Vec2* velocity = a.velocity;
-  const Vec2* coefficient = a.coefficient;
-  const std::uint32_t* neighbour = a.neighbour;
 #pragma omp for schedule(static)
   for (std::ptrdiff_t block = 0; block < a.blocks; ++block) {
     const std::ptrdiff_t last = block_last(a, block);
     double error_sum = 0.0;
     for (std::ptrdiff_t f = block_first(block); f < last; ++f) {
       const std::uint32_t i = a.fluid[f];
-      const Vec2 vi = velocity[i];
-      Vec2 even = Vec2::Zero(), odd = Vec2::Zero();
-      std::uint32_t k = a.offsets[i];
-      const std::uint32_t end = a.offsets[i + 1];
-      for (; k + 1 < end; k += 2) {
-        even += (vi - velocity[neighbour[k]]).cwiseProduct(coefficient[k]);
-        odd += (vi - velocity[neighbour[k + 1]]).cwiseProduct(coefficient[k + 1]);
-      }
-      if (k < end) even += (vi - velocity[neighbour[k]]).cwiseProduct(coefficient[k]);
-      double rate = (even + odd).sum();  // kg/(m^3 s)
+      const Vec2 vi = a.velocity[i];
+      double rate = pair_sum(a, i, [&](std::uint32_t k) -> Vec2 {
+                      return (vi - a.velocity[a.neighbour[k]]).cwiseProduct(a.coefficient[k]);
+                    }).sum();  // kg/(m^3 s)
       if (a.samples != nullptr) {
         const SampleCache* sample = a.sample;
         for_each_neighbour(*a.samples, i, [&](std::uint32_t q, const WallSample& wall) {

@@ -19,6 +19,7 @@
 #include <cmath>
 #include <memory>
 
+#include "core/search/for_each_neighbour.hpp"
 #include "core/io/checkpoint.hpp"
 #include "core/io/geometry.hpp"
 #include "core/run/method.hpp"
@@ -216,20 +217,14 @@ class IsphMethod final : public Method {
                                  rest_density_, scene_.physics.kinematic_viscosity, eta2_, acceleration_);
       }
     }
-    {
+    {  // u* = u^n + dt a
       const auto timed = measure(timers_, integration_phase_);
-#pragma omp parallel for schedule(static)
-      for (std::ptrdiff_t i = 0; i < count; ++i) {
-        if (particles.type[i] == ParticleType::Fluid) particles.velocity[i] += dt * acceleration_[i];
-      }
+      for_each_fluid_particle(particles, [&](std::ptrdiff_t i) { particles.velocity[i] += dt * acceleration_[i]; });
     }
     walls_.after_explicit_velocity(context);
-    {
+    {  // r* = r^n + dt u*
       const auto timed = measure(timers_, integration_phase_);
-#pragma omp parallel for schedule(static)
-      for (std::ptrdiff_t i = 0; i < count; ++i) {
-        if (particles.type[i] == ParticleType::Fluid) particles.position[i] += dt * particles.velocity[i];
-      }
+      for_each_fluid_particle(particles, [&](std::ptrdiff_t i) { particles.position[i] += dt * particles.velocity[i]; });
       fix_walls(particles);
     }
     walls_.after_explicit_position(context);

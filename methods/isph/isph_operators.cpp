@@ -45,11 +45,8 @@ void summation_density(const ParticleSet& particles, const NeighbourList& neighb
 void ppe_laplacian(const ParticleSet& particles, const NeighbourList& neighbours, const WallSampleList& samples,
                    const SphKernel& kernel, double mass, const std::vector<double>& density, double rest_density,
                    const Vec2& head, double eta2, const std::vector<double>& values, std::vector<double>& out) {
-  const auto n = static_cast<std::ptrdiff_t>(particles.size());
   out.assign(particles.size(), 0.0);
-#pragma omp parallel for schedule(static)
-  for (std::ptrdiff_t i = 0; i < n; ++i) {
-    if (particles.type[i] != ParticleType::Fluid) continue;
+  for_each_fluid_particle(particles, [&](std::ptrdiff_t i) {
     double sum = 0.0;
     for_each_neighbour(neighbours, i, [&](std::uint32_t j) {
       if (particles.type[j] == ParticleType::Ghost) return;
@@ -64,17 +61,14 @@ void ppe_laplacian(const ParticleSet& particles, const NeighbourList& neighbours
       sum += ppe_pair_coefficient(mass * wall.volume, density[i], rest_density, factor) * (value - values[i]);
     });
     out[i] = sum;
-  }
+  });
 }
 
 void add_viscous_acceleration(const ParticleSet& particles, const NeighbourList& neighbours,
                               const WallSampleList& samples, const SphKernel& kernel, double mass,
                               const std::vector<double>& density, double rest_density, double kinematic_viscosity,
                               double eta2, std::vector<Vec2>& acceleration) {
-  const auto n = static_cast<std::ptrdiff_t>(particles.size());
-#pragma omp parallel for schedule(static)
-  for (std::ptrdiff_t i = 0; i < n; ++i) {
-    if (particles.type[i] != ParticleType::Fluid) continue;
+  for_each_fluid_particle(particles, [&](std::ptrdiff_t i) {
     Vec2 sum = Vec2::Zero();
     for_each_neighbour(neighbours, i, [&](std::uint32_t j) {
       if (particles.type[j] == ParticleType::Ghost) return;
@@ -91,18 +85,15 @@ void add_viscous_acceleration(const ParticleSet& particles, const NeighbourList&
              (particles.velocity[i] - u_w);
     });
     acceleration[i] += kinematic_viscosity * sum;
-  }
+  });
 }
 
 void velocity_divergence(const ParticleSet& particles, const NeighbourList& neighbours, const WallSampleList& samples,
                          const SphKernel& kernel, double mass, const std::vector<double>& density,
                          const std::vector<Vec2>& velocity, const Vec2& sample_base_velocity,
                          std::vector<double>& out) {
-  const auto n = static_cast<std::ptrdiff_t>(particles.size());
   out.assign(particles.size(), 0.0);
-#pragma omp parallel for schedule(static)
-  for (std::ptrdiff_t i = 0; i < n; ++i) {
-    if (particles.type[i] != ParticleType::Fluid) continue;
+  for_each_fluid_particle(particles, [&](std::ptrdiff_t i) {
     double sum = 0.0;
     for_each_neighbour(neighbours, i, [&](std::uint32_t j) {
       if (particles.type[j] == ParticleType::Ghost) return;
@@ -115,17 +106,14 @@ void velocity_divergence(const ParticleSet& particles, const NeighbourList& neig
       sum += mass * wall.volume * (u_w - velocity[i]).dot(kernel.gradient(particles.position[i] - wall.position));
     });
     out[i] = sum / density[i];
-  }
+  });
 }
 
 void position_divergence(const ParticleSet& particles, const NeighbourList& neighbours, const WallSampleList& samples,
                          const SphKernel& kernel, double mass, const std::vector<double>& density,
                          double rest_density, std::vector<double>& out) {
-  const auto n = static_cast<std::ptrdiff_t>(particles.size());
   out.assign(particles.size(), 0.0);
-#pragma omp parallel for schedule(static)
-  for (std::ptrdiff_t i = 0; i < n; ++i) {
-    if (particles.type[i] != ParticleType::Fluid) continue;
+  for_each_fluid_particle(particles, [&](std::ptrdiff_t i) {
     double sum = 0.0;
     for_each_neighbour(neighbours, i, [&](std::uint32_t j) {
       if (particles.type[j] == ParticleType::Ghost) return;
@@ -138,7 +126,7 @@ void position_divergence(const ParticleSet& particles, const NeighbourList& neig
       sum -= mass * wall.volume / rest_density * r_iw.dot(kernel.gradient(r_iw));
     });
     out[i] = sum;
-  }
+  });
 }
 
 PressureGradientForm pressure_gradient_form_from_name(const std::string& name) {

@@ -75,18 +75,16 @@ bool PressurePoissonSolver::wall_row(const RowInputs& in, int row, std::size_t i
   const ParticleSet& particles = in.particles;
   const SphKernel& kernel = in.kernel;
   const std::vector<double>& density = in.density;
-  const PressureSolveSettings& settings = in.settings;
-  const NeighbourList& neighbours = in.neighbours;
   bool grounded = false;
   // Adami, Hu & Adams (2012), eq. 27 with a_w = 0:
   //   p_w = (sum_f p_f W_wf + g . sum_f rho_f (x_w - x_f) W_wf) / sum_f W_wf
   double weight_sum = 0.0;
   Vec2 head = Vec2::Zero();
-  for_each_neighbour(neighbours, i, [&](std::uint32_t f) {
+  for_each_neighbour(in.neighbours, i, [&](std::uint32_t f) {
     if (particles.type[f] != ParticleType::Fluid) return;
     weight_sum += kernel.value((particles.position[i] - particles.position[f]).norm());
   });
-  for_each_neighbour(neighbours, i, [&](std::uint32_t f) {
+  for_each_neighbour(in.neighbours, i, [&](std::uint32_t f) {
     if (particles.type[f] != ParticleType::Fluid) return;
     const Vec2 between = particles.position[i] - particles.position[f];
     const double w = kernel.value(between.norm()) / weight_sum;
@@ -99,7 +97,7 @@ bool PressurePoissonSolver::wall_row(const RowInputs& in, int row, std::size_t i
     }
   });
   writer.value(0) = 1.0;
-  rhs_[static_cast<std::size_t>(row)] = settings.gravity.dot(head);
+  rhs_[static_cast<std::size_t>(row)] = in.settings.gravity.dot(head);
   return grounded;
 }
 

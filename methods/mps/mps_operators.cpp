@@ -36,10 +36,7 @@ void add_viscous_acceleration(const ParticleSet& particles, const NeighbourList&
                               const WallSampleList& samples, const OperatorRadius& radius,
                               double kinematic_viscosity, std::vector<Vec2>& acceleration) {
   const double coefficient = kinematic_viscosity * 2.0 * kDimension / (radius.n0 * radius.lambda);  // 1/s
-  const auto n = static_cast<std::ptrdiff_t>(particles.size());
-#pragma omp parallel for schedule(static)
-  for (std::ptrdiff_t i = 0; i < n; ++i) {
-    if (particles.type[i] != ParticleType::Fluid) continue;
+  for_each_fluid_particle(particles, [&](std::ptrdiff_t i) {
     Vec2 sum = Vec2::Zero();
     for_each_neighbour(neighbours, i, [&](std::uint32_t j) {
       if (particles.type[j] == ParticleType::Ghost) return;
@@ -51,7 +48,7 @@ void add_viscous_acceleration(const ParticleSet& particles, const NeighbourList&
       sum += wall.volume * (sample_velocity(wall, particles.velocity) - particles.velocity[i]) * w;
     });
     acceleration[i] += coefficient * sum;
-  }
+  });
 }
 
 void pressure_acceleration(const ParticleSet& particles, const NeighbourList& neighbours,
