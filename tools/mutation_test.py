@@ -14,7 +14,7 @@ the spec item itself. A mutation that does not compile counts as killed by the c
 ("build"); none of the list does (checked).
 
     tools/mutation_test.py                  # the whole list -> docs/data/mutation_report.csv
-    tools/mutation_test.py --only ID [--only ID2]
+    tools/mutation_test.py --only ID [--only ID2]   # updates those rows of the report
     tools/mutation_test.py --check          # every `old` occurs exactly once; no build
 
 Exit status: 0 when every mutation run was killed, 1 when one survived, 2 on bad input.
@@ -110,20 +110,22 @@ def build(build_dir, jobs):
 
 
 def run_quick_suite(build_dir, jobs):
-    """Runs `ctest -L spec`; returns (all passed, failed test names, count run)."""
+    """Runs `ctest -L spec`; returns (all passed, failed test names, count run).
+
+    The failed names come from CTest's Testing/Temporary/LastTestsFailed.log ("index:name"
+    per line), which keeps names with parentheses whole.
+    """
+    failed_log = Path(build_dir) / "Testing" / "Temporary" / "LastTestsFailed.log"
+    if failed_log.exists():
+        failed_log.unlink()
     command = ["ctest", "--test-dir", str(build_dir), "-L", CTEST_LABEL, "-j", str(jobs),
                "--timeout", str(TEST_TIMEOUT_SECONDS)]
     result = subprocess.run(command, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
     failed = []
-    in_failed = False
-    for line in result.stdout.splitlines():
-        if line.startswith("The following tests FAILED"):
-            in_failed = True
-            continue
-        if in_failed:
-            match = re.match(r"\s*\d+\s+-\s+(.*?)\s+\((Failed|Timeout|SEGFAULT|Subprocess aborted|.*)\)", line)
-            if match:
-                failed.append(match.group(1).strip())
+    if failed_log.exists():
+        for line in failed_log.read_text(encoding="utf-8").splitlines():
+            if ":" in line:
+                failed.append(line.split(":", 1)[1].strip())
     total = re.search(r"tests passed, \d+ tests failed out of (\d+)", result.stdout)
     return result.returncode == 0, failed, int(total.group(1)) if total else 0
 
@@ -147,6 +149,17 @@ def run_one(mutation, build_dir, jobs):
             "seconds": f"{seconds:.1f}"}
 
 
+def merge_with_existing(rows, path, mutations):
+    """With --only: the existing report's rows with this run's rows replacing theirs, in the
+    order of the mutation list (rows of mutations no longer listed are dropped)."""
+    by_id = {}
+    if path.is_file():
+        with path.open(newline="", encoding="utf-8") as handle:
+            by_id = {row["id"]: row for row in csv.DictReader(handle)}
+    by_id.update({row["id"]: row for row in rows})
+    return [by_id[m["id"]] for m in mutations if m["id"] in by_id]
+
+
 def write_report(rows, path):
     path.parent.mkdir(parents=True, exist_ok=True)
     with path.open("w", newline="", encoding="utf-8") as handle:
@@ -164,7 +177,7 @@ def main():
     parser.add_argument("--report", default=str(REPORT), help="CSV report (default docs/data/mutation_report.csv)")
     args = parser.parse_args()
 
-    mutations = load_mutations(MUTATIONS)
+    all_mutations = mutations = load_mutations(MUTATIONS)
     problems = check(mutations)
     if args.check or problems:
         for problem in problems:
@@ -193,7 +206,8 @@ def main():
         # Leave the build matching the restored sources (ccache makes this quick).
         build(build_dir, args.jobs)
         if rows:
-            write_report(rows, Path(args.report))
+            report = Path(args.report)
+            write_report(merge_with_existing(rows, report, all_mutations) if args.only else rows, report)
     survived = [row["id"] for row in rows if row["result"] != "killed"]
     print(f"{len(rows)} mutations in {time.monotonic() - begin:.0f} s: {len(rows) - len(survived)} killed, "
           f"{len(survived)} survived {' '.join(survived)}")
