@@ -1,0 +1,218 @@
+#!/usr/bin/python3
+"""Mutation testing of the MPS specification (issue 18, part 4).
+
+Applies one mutation at a time from tests/mutations/mps_spec.json to the source tree (in
+place; the original text is always written back, also on Ctrl-C or a failed build),
+rebuilds the test binary incrementally, runs the quick suite and reports per mutation
+whether it was killed and by which tests.
+
+The quick suite is the CTest label "spec": every Catch2 test tagged [spec]
+(tests/test_mps_spec_*.cpp; tests/CMakeLists.txt gives them the labels unit and spec).
+None of them is a regression comparison against stored output (tests/test_regression.cpp
+is tagged [regression], not [spec]), so a mutation the suite kills is killed by a test of
+the spec item itself. A mutation that does not compile counts as killed by the compiler
+("build"); none of the list does (checked).
+
+    tools/mutation_test.py                  # the whole list -> docs/data/mutation_report.csv
+    tools/mutation_test.py --only ID [--only ID2]   # updates those rows of the report
+    tools/mutation_test.py --check          # every `old` occurs exactly once; no build
+
+Exit status: 0 when every mutation run was killed, 1 when one survived, 2 on bad input.
+"""
+import argparse
+import csv
+import json
+import os
+import re
+import signal
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parent.parent
+MUTATIONS = ROOT / "tests" / "mutations" / "mps_spec.json"
+REPORT = ROOT / "docs" / "data" / "mutation_report.csv"
+REQUIRED_KEYS = ("id", "spec", "item", "file", "old", "new")
+CTEST_LABEL = "spec"
+TEST_TIMEOUT_SECONDS = 120  # per test; a mutation that makes a test hang is killed by the timeout
+BUILD_TIMEOUT_SECONDS = 1800
+
+
+def load_mutations(path):
+    """The list from the JSON file; exits with status 2 naming the file and entry on bad input."""
+    try:
+        mutations = json.loads(path.read_text(encoding="utf-8"))
+    except (OSError, ValueError) as error:
+        sys.exit(f"{path}: cannot read the mutation list: {error}")
+    if not isinstance(mutations, list):
+        sys.exit(f"{path}: expected a JSON list of mutations")
+    seen = set()
+    for index, mutation in enumerate(mutations):
+        missing = [key for key in REQUIRED_KEYS if not isinstance(mutation.get(key), str) or not mutation.get(key)]
+        if missing:
+            sys.exit(f"{path}: entry {index}: expected non-empty strings for {', '.join(missing)}")
+        if mutation["id"] in seen:
+            sys.exit(f"{path}: entry {index}: id '{mutation['id']}' appears twice")
+        if mutation["old"] == mutation["new"]:
+            sys.exit(f"{path}: entry {index} ('{mutation['id']}'): old and new are the same text")
+        seen.add(mutation["id"])
+    return mutations
+
+
+def check(mutations):
+    """Every `old` occurs exactly once in its file. Returns the list of problems."""
+    problems = []
+    for mutation in mutations:
+        source = ROOT / mutation["file"]
+        if not source.is_file():
+            problems.append(f"{mutation['id']}: file {mutation['file']} does not exist")
+            continue
+        count = source.read_text(encoding="utf-8").count(mutation["old"])
+        if count != 1:
+            problems.append(f"{mutation['id']}: `old` occurs {count} times in {mutation['file']}, expected exactly once")
+    return problems
+
+
+class AppliedMutation:
+    """Context manager: the mutated file while inside, the original text afterwards, always.
+
+    SIGINT and SIGTERM are turned into KeyboardInterrupt so that the finally clause runs.
+    """
+
+    def __init__(self, mutation):
+        self.path = ROOT / mutation["file"]
+        self.mutation = mutation
+        self.original = None
+
+    def __enter__(self):
+        self.original = self.path.read_text(encoding="utf-8")
+        if self.original.count(self.mutation["old"]) != 1:
+            raise RuntimeError(f"{self.mutation['id']}: `old` is not exactly once in {self.mutation['file']}")
+        self.path.write_text(self.original.replace(self.mutation["old"], self.mutation["new"]), encoding="utf-8")
+        return self
+
+    def __exit__(self, *exc):
+        self.path.write_text(self.original, encoding="utf-8")
+        return False
+
+
+def raise_interrupt(signum, frame):
+    raise KeyboardInterrupt(f"signal {signum}")
+
+
+def build(build_dir, jobs):
+    """Incremental build of the test binary (and the mps_lab binary it depends on)."""
+    command = ["cmake", "--build", str(build_dir), "--target", "mps_lab_tests", "-j", str(jobs)]
+    result = subprocess.run(command, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True,
+                            timeout=BUILD_TIMEOUT_SECONDS)
+    return result.returncode == 0, result.stdout
+
+
+def run_quick_suite(build_dir, jobs):
+    """Runs `ctest -L spec`; returns (all passed, failed test names, count run).
+
+    The failed names come from CTest's Testing/Temporary/LastTestsFailed.log ("index:name"
+    per line), which keeps names with parentheses whole.
+    """
+    failed_log = Path(build_dir) / "Testing" / "Temporary" / "LastTestsFailed.log"
+    if failed_log.exists():
+        failed_log.unlink()
+    command = ["ctest", "--test-dir", str(build_dir), "-L", CTEST_LABEL, "-j", str(jobs),
+               "--timeout", str(TEST_TIMEOUT_SECONDS)]
+    result = subprocess.run(command, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
+    failed = []
+    if failed_log.exists():
+        for line in failed_log.read_text(encoding="utf-8").splitlines():
+            if ":" in line:
+                failed.append(line.split(":", 1)[1].strip())
+    total = re.search(r"tests passed, \d+ tests failed out of (\d+)", result.stdout)
+    return result.returncode == 0, failed, int(total.group(1)) if total else 0
+
+
+def run_one(mutation, build_dir, jobs):
+    """Applies, builds, tests and restores one mutation; returns its report row."""
+    start = time.monotonic()
+    with AppliedMutation(mutation):
+        built, log = build(build_dir, jobs)
+        if not built:
+            killers = ["build"]
+        else:
+            passed, killers, count = run_quick_suite(build_dir, jobs)
+            if count == 0:
+                raise RuntimeError("the quick suite ran no test: is the build folder configured with tests?")
+            if not passed and not killers:
+                killers = ["ctest (unparsed failure)"]
+    seconds = time.monotonic() - start
+    return {"id": mutation["id"], "spec": mutation["spec"], "item": mutation["item"],
+            "result": "killed" if killers else "survived", "killing_tests": "; ".join(killers),
+            "seconds": f"{seconds:.1f}"}
+
+
+def merge_with_existing(rows, path, mutations):
+    """With --only: the existing report's rows with this run's rows replacing theirs, in the
+    order of the mutation list (rows of mutations no longer listed are dropped)."""
+    by_id = {}
+    if path.is_file():
+        with path.open(newline="", encoding="utf-8") as handle:
+            by_id = {row["id"]: row for row in csv.DictReader(handle)}
+    by_id.update({row["id"]: row for row in rows})
+    return [by_id[m["id"]] for m in mutations if m["id"] in by_id]
+
+
+def write_report(rows, path):
+    path.parent.mkdir(parents=True, exist_ok=True)
+    with path.open("w", newline="", encoding="utf-8") as handle:
+        writer = csv.DictWriter(handle, fieldnames=["id", "spec", "item", "result", "killing_tests", "seconds"])
+        writer.writeheader()
+        writer.writerows(rows)
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser.add_argument("--only", action="append", metavar="ID", help="run only this mutation (repeatable)")
+    parser.add_argument("--check", action="store_true", help="only check that every `old` occurs exactly once")
+    parser.add_argument("--build-dir", default=str(ROOT / "build"), help="configured CMake build folder (default build/)")
+    parser.add_argument("--jobs", type=int, default=2, help="parallel build and ctest jobs (default 2)")
+    parser.add_argument("--report", default=str(REPORT), help="CSV report (default docs/data/mutation_report.csv)")
+    args = parser.parse_args()
+
+    all_mutations = mutations = load_mutations(MUTATIONS)
+    problems = check(mutations)
+    if args.check or problems:
+        for problem in problems:
+            print(problem, file=sys.stderr)
+        print(f"{len(mutations)} mutations, {len(problems)} problems")
+        return 2 if problems else 0
+    if args.only:
+        unknown = sorted(set(args.only) - {m["id"] for m in mutations})
+        if unknown:
+            sys.exit(f"--only: no mutation called {', '.join(unknown)} in {MUTATIONS}")
+        mutations = [m for m in mutations if m["id"] in args.only]
+    build_dir = Path(args.build_dir)
+    if not (build_dir / "CMakeCache.txt").is_file():
+        sys.exit(f"--build-dir {build_dir}: not a configured CMake build folder (no CMakeCache.txt)")
+
+    signal.signal(signal.SIGTERM, raise_interrupt)
+    rows = []
+    begin = time.monotonic()
+    try:
+        for number, mutation in enumerate(mutations, 1):
+            row = run_one(mutation, build_dir, args.jobs)
+            rows.append(row)
+            print(f"[{number}/{len(mutations)}] {row['id']}: {row['result']} ({row['seconds']} s) {row['killing_tests']}",
+                  flush=True)
+    finally:
+        # Leave the build matching the restored sources (ccache makes this quick).
+        build(build_dir, args.jobs)
+        if rows:
+            report = Path(args.report)
+            write_report(merge_with_existing(rows, report, all_mutations) if args.only else rows, report)
+    survived = [row["id"] for row in rows if row["result"] != "killed"]
+    print(f"{len(rows)} mutations in {time.monotonic() - begin:.0f} s: {len(rows) - len(survived)} killed, "
+          f"{len(survived)} survived {' '.join(survived)}")
+    return 1 if survived else 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
