@@ -217,7 +217,7 @@ TEST_CASE("AMG-PCG iterations stay flat on the 5-point Poisson matrix", "[amg]")
   CHECK(counts.back().amg * 2 <= counts.front().amg * 3);
 }
 
-TEST_CASE("AMG-PCG iterations stay flat on the 5-point Poisson matrix, large grids", "[amg][long]") {
+TEST_CASE("AMG-PCG iterations stay flat on the 5-point Poisson matrix - large grids", "[amg][long]") {
   for (const int n : {256, 512}) {
     char label[64];
     std::snprintf(label, sizeof label, "poisson %dx%d", n, n);
@@ -242,7 +242,7 @@ TEST_CASE("AMG-PCG iterations stay flat on a particle-like (MPS kernel) matrix",
   CHECK(shuffled.amg <= kParticleAmgBound);
 }
 
-TEST_CASE("AMG-PCG iterations stay flat on a particle-like matrix, 2.5e5 unknowns", "[amg][long]") {
+TEST_CASE("AMG-PCG iterations stay flat on a particle-like matrix - 2.5e5 unknowns", "[amg][long]") {
   const Counts c = count_iterations(particle_matrix(500, 500), true, "particles 500x500");
   CHECK(c.amg <= kParticleAmgBound);
   const Counts shuffled =

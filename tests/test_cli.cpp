@@ -39,7 +39,7 @@ TEST_CASE("mps_lab --version names the version and the git revision of the build
   CHECK(result.stdout_text == std::string("mps_lab ") + MPS_LAB_VERSION + " (git " + mps_lab::git_revision() + ")\n");
 }
 
-TEST_CASE("mps_lab run with --out, --set and --end-time", "[cli]") {
+TEST_CASE("mps_lab run with --out - --set and --end-time", "[cli]") {
   const auto out = fresh_directory("cli_run_out");
   const auto result = run_mps_lab("run --method=mps " + scene_path("dambreak.json") + " --out " + out.string() +
                                       " --set methods.mps.relaxation=0.25 --end-time 0.05",
@@ -52,7 +52,7 @@ TEST_CASE("mps_lab run with --out, --set and --end-time", "[cli]") {
   CHECK(std::filesystem::exists(out / "output_000100.vtk"));
 }
 
-TEST_CASE("bad input: one line naming the problem, non-zero exit, nothing run", "[cli][input]") {
+TEST_CASE("bad input: one line naming the problem - non-zero exit - nothing run", "[cli][input]") {
   const auto dir = fresh_directory("cli_bad_input");
   write_text(dir / "truncated.json", R"({"domain": {"min": [0, 0], "max": [1, 0.6]}, "fluid_bl)");
   write_text(dir / "unknown_key.json", R"({"domain": {"min": [0, 0], "max": [1, 0.6]},
@@ -93,7 +93,7 @@ TEST_CASE("bad input: one line naming the problem, non-zero exit, nothing run", 
   CHECK(line_count(result.stderr_text) == 1);
 }
 
-TEST_CASE("a run whose solver fails: status solver_failed in run.json, one line, exit 1, the state kept", "[cli]") {
+TEST_CASE("a run whose solver fails: status solver_failed in run.json - one line - exit 1 - the state kept", "[cli]") {
   const auto out = fresh_directory("cli_failed_run");
   // A CG capped at one iteration cannot reach 1e-8; asked to stop on it, the run ends in step 1.
   const auto result = run_mps_lab("run " + scene_path("dambreak.json") + " --out " + out.string() +

@@ -11,7 +11,7 @@
 using namespace mps_lab;
 using namespace mps_lab::testing;
 
-TEST_CASE("DFSPH dam break to 2 s: no NaN, nothing lost, nothing through the walls, front on Martin & Moyce",
+TEST_CASE("DFSPH dam break to 2 s: no NaN - nothing lost - nothing through the walls - front on Martin & Moyce",
           "[dfsph][dambreak][validation]") {
   // In every frame no fluid closer than 0.40 l0 to a wall particle line (the boundary
   // particles' stand-off, see the next test); at t = 2 s none beyond the wall surfaces.

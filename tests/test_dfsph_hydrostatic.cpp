@@ -116,7 +116,7 @@ StillWater run_still_water(const std::string& time_step_rule) {
 
 }  // namespace
 
-TEST_CASE("DFSPH hydrostatics: still water stays still, its pressure is rho g (H - y), the bed carries its weight",
+TEST_CASE("DFSPH hydrostatics: still water stays still - its pressure is rho g (H - y) - the bed carries its weight",
           "[dfsph][hydrostatic]") {
   {
     const StillWater w = run_still_water("cfl");

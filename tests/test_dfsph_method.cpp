@@ -35,7 +35,7 @@ TEST_CASE("DFSPH declares its statistics and reports the density solve as the ma
   CHECK(report.solver_residual == report.extra[kDensityError]);
 }
 
-TEST_CASE("DFSPH CFL time step: 0.4 l0 / max |v + dt a|, bounded, landing on the end time", "[dfsph]") {
+TEST_CASE("DFSPH CFL time step: 0.4 l0 / max |v + dt a| - bounded - landing on the end time", "[dfsph]") {
   // nu = 0: the non-pressure acceleration is exactly g, so the rule can be recomputed here.
   const Scene scene = load("dambreak.json", {"physics.kinematic_viscosity=0", "time.end_time=0.3"});
   Simulation simulation(scene, dfsph());
@@ -63,7 +63,7 @@ TEST_CASE("DFSPH CFL time step: 0.4 l0 / max |v + dt a|, bounded, landing on the
   CHECK(fixed_simulation.method().time_step(fixed_simulation.particles()) == 5e-4);
 }
 
-TEST_CASE("DFSPH first dam-break step: solvers stop at their tolerances and caps, per the report", "[dfsph][solver]") {
+TEST_CASE("DFSPH first dam-break step: solvers stop at their tolerances and caps - per the report", "[dfsph][solver]") {
   // The first step builds the pressure of the resting column from nothing: the density solve
   // has real work (tens of iterations), so tolerance and cap both show.
   const auto first_step = [](const std::vector<std::string>& overrides) {
@@ -103,7 +103,7 @@ TEST_CASE("DFSPH rejects inconsistent bounds with a message naming the key", "[d
   CHECK_THROWS_WITH(Simulation(iterations, dfsph()), Catch::Contains("methods.dfsph.density_min_iterations"));
 }
 
-TEST_CASE("DFSPH: same scene, 1 and 2 threads, bit-identical particles", "[dfsph][determinism]") {
+TEST_CASE("DFSPH: same scene - 1 and 2 threads - bit-identical particles", "[dfsph][determinism]") {
   // l0 = 0.0125 m: 1278 particles, above the size where the method's loops use threads; the
   // first 0.05 s of the collapse are the steps with the most solver iterations.
   const Scene scene = load("dambreak.json", {"particle_spacing=0.0125"});

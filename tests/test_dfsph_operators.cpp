@@ -146,7 +146,7 @@ TEST_CASE("DFSPH boundary volumes on a three-layer bed and the density they give
   CHECK(single.boundary_mass[single.at(0, -1)] == 0.0);  // layer 2 unused
 }
 
-TEST_CASE("DFSPH divergence solver stops at its tolerance, respects its iteration bounds", "[dfsph][solver]") {
+TEST_CASE("DFSPH divergence solver stops at its tolerance - respects its iteration bounds", "[dfsph][solver]") {
   // A 15 x 15 block contracting uniformly, v = -c (x - x_c): D rho/Dt = 2 c rho > 0 inside.
   const double c = 2.0, dt = 1e-3;  // 1/s, s: initial error dt * 2c = 4e-3 in the interior
   const auto solve = [&](double tolerance, long long min_iterations, long long max_iterations, double* check = nullptr) {
@@ -189,7 +189,7 @@ TEST_CASE("DFSPH divergence solver stops at its tolerance, respects its iteratio
   CHECK(minimum.iterations == 4);  // at least min_iterations even when already below tolerance
 }
 
-TEST_CASE("DFSPH density solver stops at its tolerance, respects its iteration bounds", "[dfsph][solver]") {
+TEST_CASE("DFSPH density solver stops at its tolerance - respects its iteration bounds", "[dfsph][solver]") {
   // A 15 x 15 block at rest on a lattice compressed by 1 % in each direction: rho = 1.0209 rho0
   // inside, so the mean predicted error starts near 1 %.
   const double dt = 5e-4;

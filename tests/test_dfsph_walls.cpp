@@ -245,7 +245,7 @@ TEST_CASE("DFSPH with dummy_layers is the Akinci lattice boundary without wall p
 // "Still water"); the bounds are those of the Akinci test. Mirror images are the fluid's own
 // configuration reflected: no lattice mismatch at the wall, and the profile is hydrostatic
 // to 1.6 % down to the bed.
-TEST_CASE("DFSPH still water with dummy_layers: hydrostatic as the Akinci path, nothing in the wall",
+TEST_CASE("DFSPH still water with dummy_layers: hydrostatic as the Akinci path - nothing in the wall",
           "[dfsph][hydrostatic]") {
   const StillWater w = check_still_water(kDummy);
   INFO("p / rho g (H - y):" << ratios(w));
@@ -262,7 +262,7 @@ TEST_CASE("DFSPH still water with mirror_particles: hydrostatic to the bed", "[d
   CHECK(w.max_speed_late < 0.2);
 }
 
-TEST_CASE("DFSPH still water with distance_function: hydrostatic as the Akinci path, nothing in the wall",
+TEST_CASE("DFSPH still water with distance_function: hydrostatic as the Akinci path - nothing in the wall",
           "[dfsph][hydrostatic]") {
   const StillWater w = check_still_water(kDistance);
   INFO("p / rho g (H - y):" << ratios(w));
@@ -288,7 +288,7 @@ TEST_CASE("DFSPH dam break with distance_function alone: nothing in or through t
   check_dambreak(run_dambreak(kDistance, "distance"));
 }
 
-TEST_CASE("DFSPH with wall samples: interrupted and resumed = uninterrupted, bit for bit", "[dfsph][checkpoint]") {
+TEST_CASE("DFSPH with wall samples: interrupted and resumed = uninterrupted - bit for bit", "[dfsph][checkpoint]") {
   // The samples are rebuilt from the positions after every neighbour search, at the start of
   // every step, so they are not in the checkpoint. mirror_particles: the samples depend on the
   // neighbour list and the crossing rule moves particles, the most state a model has.

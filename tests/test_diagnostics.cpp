@@ -8,7 +8,7 @@
 using namespace mps_lab;
 using namespace mps_lab::testing;
 
-TEST_CASE("front and height: the column between wall surfaces, detached drops ignored", "[diagnostics]") {
+TEST_CASE("front and height: the column between wall surfaces - detached drops ignored", "[diagnostics]") {
   const Scene scene = load("dambreak.json");
   ParticleSet particles = build_particles(scene);
   FlowMeasures m = measure_flow(particles, scene);
@@ -30,7 +30,7 @@ TEST_CASE("front and height: the column between wall surfaces, detached drops ig
   CHECK(measure_flow(particles, scene).front == Approx(0.25).epsilon(1e-12));
 }
 
-TEST_CASE("the common density error is ~0 on the lattice and sees compression", "[diagnostics]") {
+TEST_CASE("the common density error is about 0 on the lattice and sees compression", "[diagnostics]") {
   const Scene scene = load("hydrostatic.json");
   ParticleSet particles = build_particles(scene);
   // On the lattice only the rows just below the surface (ratio between 0.9 and 1) deviate:
@@ -48,7 +48,7 @@ TEST_CASE("the common density error is ~0 on the lattice and sees compression", 
   CHECK(error < 0.03);
 }
 
-TEST_CASE("pressure sensors: Shepard average of the fluid pressure, 0 when dry", "[diagnostics]") {
+TEST_CASE("pressure sensors: Shepard average of the fluid pressure - 0 when dry", "[diagnostics]") {
   const Scene scene = load("hydrostatic.json", {"diagnostics.pressure_sensors=[{\"name\": \"mid\", \"position\": [0.25, 0.1]},"
                                                  "{\"name\": \"dry\", \"position\": [0.25, 0.5]}]"});
   ParticleSet particles = build_particles(scene);

@@ -13,7 +13,7 @@
 using namespace mps_lab;
 using namespace mps_lab::testing;
 
-TEST_CASE("ISPH dam break to 2 s: no NaN, nothing lost, nothing through the walls, front on Martin & Moyce",
+TEST_CASE("ISPH dam break to 2 s: no NaN - nothing lost - nothing through the walls - front on Martin & Moyce",
           "[isph][validation]") {
   // No fluid beyond the wall surfaces (domain boundary +- l0/2) in any frame.
   const DambreakOutcome outcome = run_spec_dambreak("isph", 0.5);
@@ -44,7 +44,7 @@ TEST_CASE("ISPH dam break to 2 s: no NaN, nothing lost, nothing through the wall
   CHECK(e.height_rms < 0.08);
 }
 
-TEST_CASE("ISPH: same scene, 1 and 2 threads, bit-identical particles", "[isph][determinism]") {
+TEST_CASE("ISPH: same scene - 1 and 2 threads - bit-identical particles", "[isph][determinism]") {
   // Every parallel loop writes its own particle, the assembly is serial and Eigen's sparse
   // product splits rows: the thread count must not change a single bit (0.25 s of dam break,
   // through the first surge and its BiCGSTAB solves).
@@ -68,7 +68,7 @@ TEST_CASE("ISPH: same scene, 1 and 2 threads, bit-identical particles", "[isph][
   CHECK(different == 0);
 }
 
-TEST_CASE("ISPH CFL step: cfl l0 / (max |u| + |g| dt), bounded, and the dam break on Martin & Moyce in a quarter of the steps",
+TEST_CASE("ISPH CFL step: cfl l0 / (max |u| + |g| dt) - bounded - and the dam break on Martin & Moyce in a quarter of the steps",
           "[isph][validation]") {
   const std::vector<std::string> cfl = {"methods.isph.time_step_rule=\"cfl\""};
   {

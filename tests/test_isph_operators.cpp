@@ -97,7 +97,7 @@ TEST_CASE("ISPH PPE Laplacian of a quadratic pressure on the lattice", "[isph]")
   }
 }
 
-TEST_CASE("ISPH PPE matrix rows are the Laplacian scaled to pascals; a ghost is no neighbour", "[isph]") {
+TEST_CASE("ISPH PPE matrix rows are the Laplacian scaled to pascals - a ghost is no neighbour", "[isph]") {
   // Fluid row i of A p = b reads rho0 l0^2 sum_j a_ij (p_i - p_j) = -rho0 l0^2 S_i: applied to
   // the unknowns' values of a quadratic field, a row whose neighbours are all unknowns must
   // give -rho0 l0^2 <lap p>_i (to round-off), and b_i = -rho0 l0^2 S_i.
@@ -158,7 +158,7 @@ TEST_CASE("ISPH PPE matrix rows are the Laplacian scaled to pascals; a ghost is 
   CHECK(diagonal_after == Approx(diagonal_before - pair(next)).epsilon(1e-12));
 }
 
-TEST_CASE("ISPH pressure gradient on a free surface: renormalised exact, symmetric form half", "[isph]") {
+TEST_CASE("ISPH pressure gradient on a free surface: renormalised exact - symmetric form half", "[isph]") {
   // Hydrostatic p = rho0 g (y_top - y) on a block whose top row is the free surface (p = 0).
   // At a surface particle the support is cut in half. The renormalised gradient (Bonet & Lok
   // 1999) is exact for a linear p whatever the support: a = -grad p / rho0 = (0, g) to

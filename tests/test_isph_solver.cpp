@@ -64,7 +64,7 @@ double recomputed_residual(const PressurePoissonSolver& solver, const ParticleSe
 
 }  // namespace
 
-TEST_CASE("ISPH BiCGSTAB stops at its tolerance, respects its cap and reports the true residual", "[isph]") {
+TEST_CASE("ISPH BiCGSTAB stops at its tolerance - respects its cap and reports the true residual", "[isph]") {
   System system = dam_break_system();
   PressurePoissonSolver solver;
 
@@ -119,7 +119,7 @@ TEST_CASE("ISPH BiCGSTAB stops at its tolerance, respects its cap and reports th
   CHECK(warm.residual <= 1e-10);
 }
 
-TEST_CASE("ISPH solve: both preconditioners give the same pressure; incomplete LU in fewer iterations", "[isph]") {
+TEST_CASE("ISPH solve: both preconditioners give the same pressure - incomplete LU in fewer iterations", "[isph]") {
   System system = dam_break_system();
   PressurePoissonSolver solver;
   system.settings.tolerance = 1e-10;

@@ -71,8 +71,8 @@ std::unique_ptr<Tank> still_tank(const std::string& model) {
 
 }  // namespace
 
-TEST_CASE("ISPH wall samples complete the support: rho* = rho0, div of a uniform u* = 0, exact hydrostatic "
-          "gradient, PPE rows = the Laplacian",
+TEST_CASE("ISPH wall samples complete the support: rhox = rho0 - div of a uniform ux = 0 - exact hydrostatic "
+          "gradient - PPE rows = the Laplacian",
           "[isph][walls]") {
   // On the lattice every model puts its samples where wall particles would be: dummy layers on
   // the wall lattice, mirror images of lattice particles across surfaces half a spacing away,
@@ -332,7 +332,7 @@ void check_dambreak(const DambreakRun& run, const std::string& model) {
 
 }  // namespace
 
-TEST_CASE("ISPH dam break to 2 s, wall-sample pressure and the wall position clamp: no fluid through the walls",
+TEST_CASE("ISPH dam break to 2 s - wall-sample pressure and the wall position clamp: no fluid through the walls",
           "[isph][walls][validation]") {
   // The spec's dam break with the isph defaults (wall_position_clamp on) and a boundary model
   // whose wall is its samples' pressure alone (crossing = "none": no kinematic condition).
@@ -366,7 +366,7 @@ TEST_CASE("ISPH dam break to 2 s: each wall-sample model keeps the fluid in with
   }
 }
 
-TEST_CASE("ISPH with wall samples: interrupted and resumed = uninterrupted, bit for bit", "[isph][walls][checkpoint]") {
+TEST_CASE("ISPH with wall samples: interrupted and resumed = uninterrupted - bit for bit", "[isph][walls][checkpoint]") {
   // The samples of the last search feed the next predictor (viscous term): the checkpoint
   // carries them. 0.3 s of dam break (600 steps), stopped at step 311 (off the frame and series
   // schedules) and resumed.

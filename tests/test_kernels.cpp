@@ -5,7 +5,7 @@
 
 using namespace mps_lab;
 
-TEST_CASE("MPS weight: values, the R_MIN clamp and zero beyond re", "[kernels]") {
+TEST_CASE("MPS weight: values - the R_MIN clamp and zero beyond re", "[kernels]") {
   const double l0 = 0.025, re = 2.1 * l0, r_min = 0.01 * l0;
   // w(r) = re/r - 1: exact values at the lattice distances.
   CHECK(mps_weight(l0, re, r_min) == Approx(1.1).epsilon(1e-14));

@@ -185,7 +185,7 @@ TEST_CASE("BiCGSTAB: Jacobi and block ILU(0) on a non-symmetric system", "[krylo
   }
 }
 
-TEST_CASE("Krylov solvers: iteration cap, warm start, zero right-hand side", "[krylov]") {
+TEST_CASE("Krylov solvers: iteration cap - warm start - zero right-hand side", "[krylov]") {
   const CsrMatrix matrix = grid_operator(20, 0.0);
   const std::vector<double> b = random_vector(matrix.rows, 4);
   JacobiPreconditioner jacobi;

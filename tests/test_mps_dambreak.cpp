@@ -7,7 +7,7 @@
 using namespace mps_lab;
 using namespace mps_lab::testing;
 
-TEST_CASE("MPS dam break to 2 s: no NaN, nothing lost, nothing through the walls, front on Martin & Moyce",
+TEST_CASE("MPS dam break to 2 s: no NaN - nothing lost - nothing through the walls - front on Martin & Moyce",
           "[mps][dambreak][validation]") {
   // The spec's position clamp holds fluid at the wall surfaces (0.5 l0) in every frame.
   const DambreakOutcome outcome = run_spec_dambreak("mps", 0.5);

@@ -104,7 +104,7 @@ TEST_CASE("number density of a full-support particle is n0", "[mps][operators]")
   CHECK(n[0] < 0.5 * radius.n0);
 }
 
-TEST_CASE("PPE: CG agrees with a direct solve, and the system is symmetric positive definite", "[mps][pressure]") {
+TEST_CASE("PPE: CG agrees with a direct solve - and the system is symmetric positive definite", "[mps][pressure]") {
   // The dam-break particles with a compressed state: CG with relative tolerance 1e-12 must
   // match a sparse Cholesky solve. Bound: ||x - x*|| / ||x*|| <= cond(A) * tol; cond(A) of
   // this system is ~1e3 (measured), so 1e-8 is a safe tolerance on the relative difference.

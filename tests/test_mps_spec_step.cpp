@@ -130,7 +130,7 @@ TEST_CASE("spec 4: the dam-break lattice has 171 fluid and 273 wall particles an
   CHECK(wall_max_y == Approx(0.575).epsilon(1e-12));
 }
 
-TEST_CASE("spec 5.1: the explicit step is g plus viscosity then u* then the CFL hook then r* then walls fixed then the clamp hook", "[mps][spec]") {
+TEST_CASE("spec 5.1: the explicit step is g plus viscosity then ux then the CFL hook then rx then walls fixed then the clamp hook", "[mps][spec]") {
   // nu = 0.01 m^2/s so that the viscous term is large enough to see (the default 1e-6 is
   // checked in the parameter table test). Particles far from the walls:
   //   0, 1: fluid l0 apart, u = (0.1, 0) and (-0.1, 0); each other's only neighbour.
@@ -191,7 +191,7 @@ TEST_CASE("spec 5.1: the explicit step is g plus viscosity then u* then the CFL 
   CHECK(particles.velocity[4] == Vec2::Zero());
 }
 
-TEST_CASE("spec 5.2-8: the correction is u = u* + dt a_p and r = r* + dt^2 a_p with a_p the gradient model", "[mps][spec]") {
+TEST_CASE("spec 5.2-8: the correction is u = ux + dt a_p and r = rx + dt^2 a_p with a_p the gradient model", "[mps][spec]") {
   // A compressed cluster: a centre and its 12 lattice neighbours within 2.1 spacings, at
   // 0.9 l0. n*_centre = 4 (2.1/0.9 - 1) + 4 (2.1/(0.9 sqrt 2) - 1) + 4 (2.1/1.8 - 1) = 8.600
   // > n0: the centre and its four nearest neighbours are unknowns with P > 0, the outer
@@ -245,7 +245,7 @@ TEST_CASE("spec 5.2-5 and 5.2-7: beta = 0.97 decides the surface and negative pr
   CHECK(particles.pressure[0] == 0.0);   // solved negative, clamped
 }
 
-TEST_CASE("spec 8: the PPE rows are 2d/(n0 lambda) w_ij with source 0.2 rho/dt^2 (n* - n0)/n0", "[mps][spec][pressure]") {
+TEST_CASE("spec 8: the PPE rows are 2d/(n0 lambda) w_ij with source 0.2 rho/dt^2 (nx - n0)/n0", "[mps][spec][pressure]") {
   // Three particles in a row l0 apart with given n*: 0.9 n0 (surface, P = 0), 1.05 n0 and
   // exactly 0.97 n0 (not < beta: an unknown). With c = 2d/(n0 lambda) (hand values):
   // row of 1: A_11 = c (1.1 + 1.1), A_12 = -c 1.1; row of 2: A_22 = c (1.1 + 0.05), A_21 = -c 1.1;

@@ -47,7 +47,7 @@ TEST_CASE("cell list equals brute force on random particles", "[neighbours]") {
   }
 }
 
-TEST_CASE("cell list equals brute force on a lattice, with particles exactly on cell edges", "[neighbours]") {
+TEST_CASE("cell list equals brute force on a lattice - with particles exactly on cell edges", "[neighbours]") {
   // Lattice spacing 0.025 and radius (= cell size) 2 l0: many pairs lie exactly on the
   // radius and many particles exactly on cell boundaries. Pairs at exactly r = radius are
   // excluded by both searches (kernels vanish there).

@@ -100,7 +100,7 @@ VtkData read_vtk(const std::filesystem::path& path) {
 
 }  // namespace
 
-TEST_CASE("frames: the spec's CSV and a VTK file that reads back, ghosts excluded", "[output]") {
+TEST_CASE("frames: the spec's CSV and a VTK file that reads back - ghosts excluded", "[output]") {
   const auto out = fresh_directory("frames");
   RunOptions options;
   options.scene_path = scene_path("dambreak.json");
@@ -216,7 +216,7 @@ TEST_CASE("output by simulated time: a frame at the first step at or after each 
   }
 }
 
-TEST_CASE("a scene beyond the tested size runs, with a note in run.json", "[output]") {
+TEST_CASE("a scene beyond the tested size runs - with a note in run.json", "[output]") {
   const auto out = fresh_directory("large_note");
   RunOptions options;
   options.scene_path = scene_path("dambreak.json");

@@ -95,7 +95,7 @@ TEST_CASE("an atomic write that fails midway leaves neither a partial file nor a
   CHECK(files_in(dir).size() == 2);  // series.csv and the folder run.json, no run.json.tmp.<pid>
 }
 
-TEST_CASE("an unwritable folder is an OutputError (not checked as root, which ignores permissions)", "[output]") {
+TEST_CASE("an unwritable folder is an OutputError (not checked as root - which ignores permissions)", "[output]") {
   const auto dir = fresh_directory("output_unwritable");
   const auto locked = dir / "locked";
   std::filesystem::create_directories(locked);

@@ -191,7 +191,7 @@ TEST_CASE("a hook the method does not declare cannot run a treatment", "[plugins
                     Catch::Contains("called the wall hook after_neighbour_search it does not declare"));
 }
 
-TEST_CASE("same scene, different thread counts: bit-identical particles", "[plugins][determinism]") {
+TEST_CASE("same scene - different thread counts: bit-identical particles", "[plugins][determinism]") {
   const Scene scene = load("dambreak.json");
   const int threads = omp_get_max_threads();
   std::vector<Vec2> result[2];

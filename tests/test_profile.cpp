@@ -12,7 +12,7 @@
 
 namespace mps_lab::testing {
 
-TEST_CASE("phase timers: ids by name, accumulation, reset and the profile's other share", "[profile]") {
+TEST_CASE("phase timers: ids by name - accumulation - reset and the profile's other share", "[profile]") {
   PhaseTimers timers;
   const auto search = timers.phase("neighbour_search");
   const auto solve = timers.phase("pressure_solve");
@@ -53,7 +53,7 @@ TEST_CASE("phase timers: ids by name, accumulation, reset and the profile's othe
 // choice, series statistics): measured 0.4-0.5 % of the step at l0 = 0.025 for every method
 // (mps_lab bench, docs/data/performance.md: "other" 0.9-2.1 us of 208-577 us per step); 25 %
 // leaves room for a busy machine, where a scope's clock reads cost relatively more.
-TEST_CASE("every method times its phases, and they cover the stepping time", "[profile]") {
+TEST_CASE("every method times its phases - and they cover the stepping time", "[profile]") {
   for (const auto* info : registries().methods.all()) {
     DYNAMIC_SECTION(info->name) {
       const Scene scene = load("dambreak.json");
@@ -136,7 +136,7 @@ TEST_CASE("the benchmark harness measures kernels and whole steps of each method
   CHECK_THAT(benchmark_table(results), Catch::Contains("p-steps/s") && Catch::Contains("search ns/part"));
 }
 
-TEST_CASE("mps_lab run --profile prints the table; mps_lab bench prints and writes its measurements", "[cli]") {
+TEST_CASE("mps_lab run --profile prints the table - mps_lab bench prints and writes its measurements", "[cli]") {
   const auto dir = fresh_directory("profile_cli");
   const auto run = run_mps_lab("run " + scene_path("dambreak.json") + " --end-time 0.005 -q --profile --out " +
                                    (dir / "run").string(),

@@ -226,7 +226,7 @@ TEST_CASE("fuzz: every key and every array element deleted in turn", "[scene][in
   report(counter, "deletion");
 }
 
-TEST_CASE("fuzz: every value replaced by wrong types, huge, negative and fractional numbers", "[scene][input][fuzz]") {
+TEST_CASE("fuzz: every value replaced by wrong types - huge - negative and fractional numbers", "[scene][input][fuzz]") {
   const std::vector<nlohmann::json> replacements = {
       nullptr, true, "text", nlohmann::json::array(), nlohmann::json::object(), 0, -1, 1e308, -1e308, 2.5, "nan"};
   FuzzCounter counter;
@@ -321,7 +321,7 @@ TEST_CASE("fuzz: structural cases", "[scene][input][fuzz]") {
   report(counter, "structural");
 }
 
-TEST_CASE("bad scenes through the binary: exit code 2, one line on stderr, no output folder", "[cli][input]") {
+TEST_CASE("bad scenes through the binary: exit code 2 - one line on stderr - no output folder", "[cli][input]") {
   const auto dir = fresh_directory("cli_fuzz_scenes");
   const std::string base = read_text(scene_path("dambreak.json"));
   write_text(dir / "truncated.json", base.substr(0, base.size() / 2));

@@ -348,13 +348,13 @@ EdgeRun closed_tank(const std::string& method) {
   TEST_CASE(METHOD ": time step far below and far beyond the CFL limit", "[stability][" METHOD "]") {   \
     time_step_extremes(METHOD);                                                                          \
   }                                                                                                      \
-  TEST_CASE(METHOD ": very coarse resolution, l0 = 0.05 m, to T = 2 s", "[stability][" METHOD "]") {    \
+  TEST_CASE(METHOD ": very coarse resolution (l0 = 0.05 m) to T = 2 s", "[stability][" METHOD "]") {    \
     coarse_resolution(METHOD);                                                                           \
   }                                                                                                      \
-  TEST_CASE(METHOD ": fine resolution, l0 = 0.0025 m, 100 steps", "[stability][" METHOD "]") {          \
+  TEST_CASE(METHOD ": fine resolution (l0 = 0.0025 m) for 100 steps", "[stability][" METHOD "]") {          \
     fine_resolution(METHOD);                                                                             \
   }                                                                                                      \
-  TEST_CASE(METHOD ": zero and high viscosity (nu = 0, 1e-2)", "[stability][" METHOD "]") {             \
+  TEST_CASE(METHOD ": zero and high viscosity (nu = 0 and 1e-2)", "[stability][" METHOD "]") {             \
     viscosity_extremes(METHOD);                                                                          \
   }                                                                                                      \
   TEST_CASE(METHOD ": a tall column, aspect 4.3", "[stability][" METHOD "]") { tall_column(METHOD); }   \
@@ -447,7 +447,7 @@ TEST_CASE("DFSPH with its default largest step (5e-3 s) at l0 = 0.0025 m: the mo
 }
 #endif
 
-TEST_CASE("a closed tank filled to the lid: the monitor stops MPS and ISPH, DFSPH stays at rest", "[stability]") {
+TEST_CASE("a closed tank filled to the lid: the monitor stops MPS and ISPH - DFSPH stays at rest", "[stability]") {
   // Measured: mps diverged at t = 0.30 s (energy growth, 15.6 m/s), isph at 0.12 s;
   // dfsph completes at rest (KE 1.7 J/m of E0 = 804 J/m) with non-converged solves.
 #ifdef MPS_LAB_WITH_MPS

@@ -39,7 +39,7 @@ TEST_CASE("mechanical energy of the initial column: rho g sum of heights above t
   CHECK(stability_energy_scale(expected, 171 * 0.625, 0.025, 5e-4) == Approx(expected + 0.5 * 171 * 0.625 * 0.25));
 }
 
-TEST_CASE("Courant check: fires just above the limit, not just below", "[monitor]") {
+TEST_CASE("Courant check: fires just above the limit - not just below", "[monitor]") {
   const Scene scene = dambreak();
   ParticleSet particles = build_particles(scene);
   StabilityMonitor monitor(scene, scene.stability);
@@ -81,7 +81,7 @@ TEST_CASE("energy check: E0 + 0.5 E_scale is the line", "[monitor]") {
   }
 }
 
-TEST_CASE("penetration and escape are told apart; continue records without stopping", "[monitor]") {
+TEST_CASE("penetration and escape are told apart - continue records without stopping", "[monitor]") {
   const Scene scene = dambreak({"stability.on_divergence=continue"});
   ParticleSet particles = build_particles(scene);
   StabilityMonitor monitor(scene, scene.stability);
@@ -126,7 +126,7 @@ TEST_CASE("a non-finite state stops the run even with on_divergence = continue",
   CHECK(monitor.count("non_finite") == 1);
 }
 
-TEST_CASE("solver failures: recorded, and a stop only when the scene asks", "[monitor]") {
+TEST_CASE("solver failures: recorded - and a stop only when the scene asks", "[monitor]") {
   StepReport failed;
   failed.solver_converged = false;
   failed.solver_note = "CG residual 1e-3 > cg_tolerance 1e-08 after 5 iterations";

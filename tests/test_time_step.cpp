@@ -20,7 +20,7 @@ TimeStepSettings cfl_settings() {
 
 }  // namespace
 
-TEST_CASE("CFL time step: cfl l0 / v_max within its bounds, an evened-out end; fixed: the scene's step",
+TEST_CASE("CFL time step: cfl l0 / v_max within its bounds - an evened-out end - fixed: the scene's step",
           "[time_step]") {
   const TimeStepSettings settings = cfl_settings();
   const double l0 = 0.025, end = 1.0;
@@ -45,7 +45,7 @@ TEST_CASE("CFL time step: cfl l0 / v_max within its bounds, an evened-out end; f
   CHECK(early.steps() == 998);
 }
 
-TEST_CASE("Time-step clock: summary, and a checkpoint restores it bit for bit", "[time_step][checkpoint]") {
+TEST_CASE("Time-step clock: summary - and a checkpoint restores it bit for bit", "[time_step][checkpoint]") {
   const TimeStepSettings settings = cfl_settings();
   TimeStepClock clock;
   clock.start(5e-4);

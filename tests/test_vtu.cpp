@@ -152,7 +152,7 @@ std::map<std::string, std::string> files_of(const fs::path& folder) {
 
 }  // namespace
 
-TEST_CASE("a VTU frame reads back bit for bit: header, appended blocks, offsets, UInt64 sizes", "[output]") {
+TEST_CASE("a VTU frame reads back bit for bit: header - appended blocks - offsets - UInt64 sizes", "[output]") {
   const auto out = fresh_directory("vtu_read_back");
   const ParticleSet particles = awkward_particles(7);
   const double time = 0.1;  // not a binary fraction: must come back bit for bit
@@ -242,7 +242,7 @@ TEST_CASE("a frame without particles is a valid VTU file", "[output]") {
   CHECK(vtu.array("pressure").bytes.empty());
 }
 
-TEST_CASE("the .pvd collection lists every VTU frame with its time, rewritten as frames are added", "[output]") {
+TEST_CASE("the .pvd collection lists every VTU frame with its time - rewritten as frames are added", "[output]") {
   const auto out = fresh_directory("vtu_pvd");
   ParticleSet particles = awkward_particles(3);
   RunOutput output(out, FrameFormats{false, true, true}, {"step"});
@@ -368,7 +368,7 @@ TEST_CASE("a background write that fails is a one-line OutputError naming the fi
   }
 }
 
-TEST_CASE("a run with VTU frames: each reads back as its CSV frame, and the scene validates the format list",
+TEST_CASE("a run with VTU frames: each reads back as its CSV frame - and the scene validates the format list",
           "[output]") {
   const auto out = fresh_directory("vtu_run");
   RunOptions options;

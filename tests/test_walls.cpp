@@ -52,7 +52,7 @@ TEST_CASE("wall geometry: the surfaces lie half a spacing from the first wall la
   CHECK(with_box.distance(Vec2(0.5125, 0.1)) == Approx(0.0125));  // above the box's surface at 0.0875
 }
 
-TEST_CASE("obstacles: wall layers inside the box, no fluid in it, lattice corners required", "[walls]") {
+TEST_CASE("obstacles: wall layers inside the box - no fluid in it - lattice corners required", "[walls]") {
   const Scene scene = load("dambreak_obstacle.json");
   const ParticleSet particles = build_particles(scene);
   CHECK(particles.count(ParticleType::Fluid) == 171);
@@ -75,7 +75,7 @@ TEST_CASE("obstacles: wall layers inside the box, no fluid in it, lattice corner
                     Catch::Contains("walls.obstacles[0].max"));
 }
 
-TEST_CASE("a run has exactly one boundary model, and it must suit the method", "[walls]") {
+TEST_CASE("a run has exactly one boundary model - and it must suit the method", "[walls]") {
   // Naming a boundary model replaces the method's default one.
   const Scene mirror = load("dambreak.json", {with_boundary("mps", "mirror_particles")});
   const WallTreatmentChoice* chosen = boundary_choice(mirror.method_config("mps").wall_treatments);

@@ -208,7 +208,10 @@ void StabilityMonitor::check_ghosts(const ParticleSet& particles, std::size_t gh
   if (ghosts > state_.ghosts) {
     std::size_t through_walls = 0;
     for (std::size_t i = 0; i < particles.size(); ++i) {
-      if (particles.type[i] == ParticleType::Ghost && beyond_a_wall(particles.position[i])) ++through_walls;
+      const Vec2& x = particles.position[i];
+      if (particles.type[i] == ParticleType::Ghost && (beyond_a_wall(x) || geometry_->behind_walled_side(x))) {
+        ++through_walls;
+      }
     }
     const std::size_t new_through_walls = through_walls - state_.ghosts_through_walls;
     const std::size_t new_open = ghosts - state_.ghosts - new_through_walls;

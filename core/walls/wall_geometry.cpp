@@ -58,11 +58,16 @@ WallGeometry::WallGeometry(const Scene& scene)
   }
 }
 
+// Beyond the domain across a side that has no wall (e.g. above the open top).
+bool WallGeometry::past_open_side(const Vec2& x) const {
+  return (!walls_.left && x.x() < domain_.min.x()) || (!walls_.right && x.x() > domain_.max.x()) ||
+         (!walls_.bottom && x.y() < domain_.min.y()) || (!walls_.top && x.y() > domain_.max.y());
+}
+
 double WallGeometry::depth_inside(const Vec2& x) const {
   double depth = 0.0;
   // Tank: behind a walled side's surface, unless past an open side (above an open top).
-  const bool past_open = (!walls_.left && x.x() < domain_.min.x()) || (!walls_.right && x.x() > domain_.max.x()) ||
-                         (!walls_.bottom && x.y() < domain_.min.y()) || (!walls_.top && x.y() > domain_.max.y());
+  const bool past_open = past_open_side(x);
   // A tank side is a slab `layers` spacings thick (its wall particles): a particle beyond its
   // outer face went over the crest and lies outside the tank, not in the wall.
   const double thickness = walls_.layers * 2.0 * half_spacing_;
@@ -78,6 +83,11 @@ double WallGeometry::depth_inside(const Vec2& x) const {
     }
   }
   return depth;
+}
+
+bool WallGeometry::behind_walled_side(const Vec2& x) const {
+  const bool past_open = past_open_side(x);
+  return !past_open && !strictly_inside_box(x, interior_);
 }
 
 bool WallGeometry::inside_solid(const Vec2& x) const { return depth_inside(x) > 0.0; }

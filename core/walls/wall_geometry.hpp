@@ -39,12 +39,18 @@ class WallGeometry {
   // How far x lies beyond the wall surface, m (0 on the fluid side). The first wall particle
   // line is at depth l0/2: a fluid particle deeper than that has penetrated the wall.
   double depth_inside(const Vec2& x) const;
+  // Whether x lies outside the tank across a walled side, at any distance behind it, and not
+  // past an open side (not above an open top). A ghost there left through the wall: ghosts are
+  // made more than l0 (layers + 1) outside the domain, beyond any side's slab, so depth_inside
+  // alone cannot see them (core/run/stability.cpp, check_ghosts).
+  bool behind_walled_side(const Vec2& x) const;
   // Distance from x to the nearest wall segment, m; its index in *nearest if given.
   double distance(const Vec2& x, std::size_t* nearest = nullptr) const;
   // Distance from x to segment k, m.
   double distance_to(const Vec2& x, std::size_t k) const;
 
  private:
+  bool past_open_side(const Vec2& x) const;
   std::vector<WallSegment> segments_;
   TankWalls walls_;
   Box domain_;
