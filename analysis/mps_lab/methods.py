@@ -4,7 +4,7 @@ No method is named here: `registered_methods` asks `mps_lab methods` (app/comman
 `methods_command`: one line per method, its name padded, two spaces, its description), and
 `method_catalogue` asks `mps_lab methods --parameters` (indented below each method: its
 parameters, "methods.<name>.<key> = ...", and its wall treatments,
-"wall treatment <name> (boundary model|measure, on|off by default): ..."). A method added
+"wall treatment <name> (boundary model|measure, on|off by default[, acts ...]): ..."). A method added
 to the C++ registry appears in every study and figure without an edit here.
 
 Colours and markers come from the position of a method in the sorted list, so one method
@@ -20,7 +20,7 @@ from . import runner
 
 LISTING_TIMEOUT = 60.0  # s; `mps_lab methods` prints a table and exits
 MARKERS = ["o", "s", "^", "D", "v", "P", "X", "*", "h", "<", ">", "p"]
-WALL_TREATMENT_LINE = re.compile(r"^\s+wall treatment (\S+) \((boundary model|measure), (on|off) by default\)")
+WALL_TREATMENT_LINE = re.compile(r"^\s+wall treatment (\S+) \((boundary model|measure), (on|off) by default[,)]")
 
 
 class MethodListError(Exception):

@@ -206,6 +206,19 @@ class MethodStylesTest(unittest.TestCase):
         for name, info in catalogue.items():
             self.assertIn(info.default_boundary_model, info.boundary_models, name)
             self.assertEqual(info.boundary_models.count(info.default_boundary_model), 1, name)
+        # Every boundary model the binary lists under a method is in its catalogue entry (the
+        # listing's "(boundary model, off by default, acts ...)" form included).
+        detailed = subprocess.run([BINARY, "methods", "--parameters"], capture_output=True, text=True,
+                                  check=True).stdout
+        listed = {}
+        current = None
+        for line in detailed.splitlines():
+            if line and not line[0].isspace():
+                current = line.split()[0]
+            elif "(boundary model" in line and current:
+                listed.setdefault(current, []).append(line.split()[2])
+        for name, info in catalogue.items():
+            self.assertEqual(sorted(info.boundary_models), sorted(listed[name]), name)
 
 
 
