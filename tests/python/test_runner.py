@@ -215,7 +215,7 @@ class MethodStylesTest(unittest.TestCase):
         for line in detailed.splitlines():
             if line and not line[0].isspace():
                 current = line.split()[0]
-            elif "(boundary model" in line and current:
+            elif line.strip().startswith("wall treatment ") and "(boundary model" in line and current:
                 listed.setdefault(current, []).append(line.split()[2])
         for name, info in catalogue.items():
             self.assertEqual(sorted(info.boundary_models), sorted(listed[name]), name)
