@@ -12,13 +12,13 @@
 
 #include <omp.h>
 
+#include "core/base/error.hpp"
+#include "core/io/output.hpp"
+#include "core/run/driver.hpp"
+#include "core/run/method.hpp"
+#include "core/walls/wall_treatment.hpp"
 #include "lab/benchmark.hpp"
 #include "lab/compare.hpp"
-#include "core/run/driver.hpp"
-#include "core/base/error.hpp"
-#include "core/run/method.hpp"
-#include "core/io/output.hpp"
-#include "core/walls/wall_treatment.hpp"
 
 namespace mps_lab::app {
 
@@ -71,9 +71,9 @@ int report_run(const RunResult& result, bool quiet, bool profile) {
   if (!quiet) {
     const auto& summary = result.summary;
     std::printf("%s: %lld steps to t = %.4g s in %.2f s wall (%d threads), mean solver iterations %.1f -> %s/\n",
-                summary["method"].get<std::string>().c_str(), result.steps, result.simulated_time,
-                result.wall_seconds, summary["threads"].get<int>(),
-                summary["solver"]["mean_iterations"].get<double>(), result.directory.c_str());
+                summary["method"].get<std::string>().c_str(), result.steps, result.simulated_time, result.wall_seconds,
+                summary["threads"].get<int>(), summary["solver"]["mean_iterations"].get<double>(),
+                result.directory.c_str());
   }
   return 0;
 }
@@ -190,8 +190,10 @@ int compare_command(const CompareCommand& command) {
   if (command.analysis) {
     const std::string python = analysis_python();
     if (python.empty()) {
-      std::fprintf(stderr, "mps_lab: figures and report skipped: %s cannot import numpy and matplotlib "
-                           "(apt-get install python3-numpy python3-matplotlib)\n", MPS_LAB_PYTHON);
+      std::fprintf(stderr,
+                   "mps_lab: figures and report skipped: %s cannot import numpy and matplotlib "
+                   "(apt-get install python3-numpy python3-matplotlib)\n",
+                   MPS_LAB_PYTHON);
     } else {
       const std::string script = data_directory() + "/analysis/compare.py";
       const std::string call = "'" + python + "' '" + script + "' '" + out + "'" + (command.quiet ? " --quiet" : "");

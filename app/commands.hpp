@@ -40,16 +40,16 @@ struct CompareCommand {
 struct BenchCommand {
   std::string scene = "scenes/dambreak.json";
   std::vector<std::string> methods;
-  std::vector<double> spacings;           // m
+  std::vector<double> spacings;  // m
   std::vector<int> threads;
   std::vector<std::string> set;
-  std::vector<std::string> per_spacing;   // "key=factor": key = factor * l0
-  double time_step_per_spacing = 0.02;    // s/m
-  double start_time = 0.0;                // s
+  std::vector<std::string> per_spacing;  // "key=factor": key = factor * l0
+  double time_step_per_spacing = 0.02;   // s/m
+  double start_time = 0.0;               // s
   long long warmup_steps = 5;
   long long steps = 20;
   bool kernels = true;
-  std::string json;                       // also write the results here
+  std::string json;  // also write the results here
   bool quiet = false;
 };
 

@@ -21,9 +21,11 @@ int main(int argc, char** argv) {
   app.set_version_flag("--version", mps_lab::version_line());
 
   mps_lab::app::RunCommand run;
-  auto* run_app = app.add_subcommand("run", "run one method on a scene; frames, series.csv and run.json in the output folder");
+  auto* run_app =
+      app.add_subcommand("run", "run one method on a scene; frames, series.csv and run.json in the output folder");
   run_app->add_option("scene", run.scene, "scene file (JSON), e.g. scenes/dambreak.json")->required();
-  run_app->add_option("--method,-m", run.method, "method name (default: the scene's \"method\"); see `mps_lab methods`");
+  run_app->add_option("--method,-m", run.method,
+                      "method name (default: the scene's \"method\"); see `mps_lab methods`");
   run_app->add_option("--out,-o", run.out, "output folder (default: the scene's output.directory)");
   run_app->add_option("--set,-s", run.set, "override a scene key, e.g. --set time.time_step=1e-4 (repeatable)")
       ->take_last()
@@ -39,8 +41,9 @@ int main(int argc, char** argv) {
 
   mps_lab::app::ResumeCommand resume;
   auto* resume_app = app.add_subcommand(
-      "resume", "continue a run from its folder's checkpoint.bin (interrupted, killed, or completed and extended "
-                "with --end-time), writing into the same folder");
+      "resume",
+      "continue a run from its folder's checkpoint.bin (interrupted, killed, or completed and extended "
+      "with --end-time), writing into the same folder");
   resume_app->add_option("directory", resume.directory, "the run folder (holds run.json and checkpoint.bin)")
       ->required();
   resume_app->add_option("--end-time", resume.end_time, "simulated end time in s (default: the run's)");
@@ -50,8 +53,8 @@ int main(int argc, char** argv) {
   resume_app->add_flag("--profile", resume.profile, "print the per-phase profile of this session at the end");
 
   mps_lab::app::CompareCommand compare;
-  auto* compare_app = app.add_subcommand(
-      "compare", "run several methods on one scene, write summary.csv, figures and report.md");
+  auto* compare_app =
+      app.add_subcommand("compare", "run several methods on one scene, write summary.csv, figures and report.md");
   compare_app->add_option("scene", compare.scene, "scene file (JSON)")->required();
   compare_app->add_option("--methods", compare.methods, "comma-separated methods (default: all registered)")
       ->delimiter(',');
@@ -66,15 +69,18 @@ int main(int argc, char** argv) {
   auto* bench_app = app.add_subcommand(
       "bench", "measure speed: kernels and whole steps of each method at several resolutions (docs/performance.md)");
   bench_app->add_option("scene", bench.scene, "scene file (default: scenes/dambreak.json)");
-  bench_app->add_option("--methods", bench.methods, "comma-separated methods (default: all registered)")->delimiter(',');
-  bench_app->add_option("--spacings", bench.spacings, "comma-separated particle spacings l0 in m (default: the scene's)")
+  bench_app->add_option("--methods", bench.methods, "comma-separated methods (default: all registered)")
+      ->delimiter(',');
+  bench_app
+      ->add_option("--spacings", bench.spacings, "comma-separated particle spacings l0 in m (default: the scene's)")
       ->delimiter(',')
       ->check(CLI::PositiveNumber);
   bench_app->add_option("--threads", bench.threads, "comma-separated OpenMP thread counts (default: OMP_NUM_THREADS)")
       ->delimiter(',')
       ->check(CLI::PositiveNumber);
-  bench_app->add_option("--time-step-per-spacing", bench.time_step_per_spacing,
-                        "time step = this x l0, s/m (default 0.02: the spec's 5e-4 s at l0 = 0.025; 0: the scene's)")
+  bench_app
+      ->add_option("--time-step-per-spacing", bench.time_step_per_spacing,
+                   "time step = this x l0, s/m (default 0.02: the spec's 5e-4 s at l0 = 0.025; 0: the scene's)")
       ->check(CLI::NonNegativeNumber);
   bench_app->add_option("--start-time", bench.start_time, "run unmeasured to this simulated time first, s")
       ->check(CLI::NonNegativeNumber);
@@ -83,9 +89,10 @@ int main(int argc, char** argv) {
   bench_app->add_option("--steps", bench.steps, "measured steps per case (default 20)")->check(CLI::PositiveNumber);
   bench_app->add_option("--set,-s", bench.set, "override a scene key (repeatable)")
       ->multi_option_policy(CLI::MultiOptionPolicy::TakeAll);
-  bench_app->add_option("--per-spacing", bench.per_spacing,
-                        "KEY=FACTOR: set a scene key to FACTOR x l0 at every spacing, e.g. "
-                        "methods.dfsph.max_time_step=1.0 (repeatable)")
+  bench_app
+      ->add_option("--per-spacing", bench.per_spacing,
+                   "KEY=FACTOR: set a scene key to FACTOR x l0 at every spacing, e.g. "
+                   "methods.dfsph.max_time_step=1.0 (repeatable)")
       ->multi_option_policy(CLI::MultiOptionPolicy::TakeAll);
   bench_app->add_flag("!--no-kernels", bench.kernels, "skip the kernel micro-benchmarks");
   bench_app->add_option("--json", bench.json, "also write every measurement to this JSON file");

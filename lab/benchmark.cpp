@@ -9,14 +9,14 @@
 #include <sys/resource.h>
 #include <unistd.h>
 
-#include "core/run/driver.hpp"
 #include "core/base/error.hpp"
 #include "core/io/geometry.hpp"
-#include "methods/mps/mps_kernels.hpp"
-#include "core/search/neighbour_search.hpp"
 #include "core/io/output.hpp"
 #include "core/io/scene.hpp"
 #include "core/kernels/sph_kernels.hpp"
+#include "core/run/driver.hpp"
+#include "core/search/neighbour_search.hpp"
+#include "methods/mps/mps_kernels.hpp"
 
 namespace mps_lab {
 
@@ -125,7 +125,8 @@ nlohmann::json method_case(const Scene& scene, const MethodInfo& info, const Ben
     result["time_step"] = simulation.last_time_step();
     result["fluid_particle_steps_per_second"] = profile["fluid_particle_steps_per_second"];
     result["milliseconds_per_step"] = 1e3 * seconds / static_cast<double>(options.steps);
-    result["nanoseconds_per_particle_step"] = 1e9 * seconds / (static_cast<double>(options.steps) * static_cast<double>(fluid));
+    result["nanoseconds_per_particle_step"] =
+        1e9 * seconds / (static_cast<double>(options.steps) * static_cast<double>(fluid));
     result["mean_solver_iterations"] = static_cast<double>(iterations) / static_cast<double>(options.steps);
     result["phases"] = profile["phases"];
     if (const char* phase = main_solver_phase(profile["phases"]); phase != nullptr && iterations > 0) {
@@ -184,7 +185,8 @@ nlohmann::json run_benchmarks(const BenchmarkOptions& options, const MethodRegis
         } catch (const std::exception&) {
           factor = 0.0;
         }
-        if (!(factor > 0.0)) throw_input_error("--per-spacing", item, "expected KEY=FACTOR with a factor > 0 (s/m, ...)");
+        if (!(factor > 0.0))
+          throw_input_error("--per-spacing", item, "expected KEY=FACTOR with a factor > 0 (s/m, ...)");
         overrides.push_back(item.substr(0, equals) + "=" + format_double(factor * spacing));
       }
     }
@@ -254,10 +256,11 @@ std::string benchmark_table(const nlohmann::json& results) {
       out += line;
       header = true;
     }
-    std::snprintf(line, sizeof line, "%8.5f %3d %9zu %10.2f %18.1f %18.1f %18.1f\n", c.at("particle_spacing").get<double>(),
-                  c.at("threads").get<int>(), c.at("particles").get<std::size_t>(), c.at("mean_neighbours").get<double>(),
-                  c.at("neighbour_search_ns_per_particle").get<double>(), c.at("number_density_ns_per_particle").get<double>(),
-                  c.at("sph_density_ns_per_particle").get<double>());
+    std::snprintf(
+        line, sizeof line, "%8.5f %3d %9zu %10.2f %18.1f %18.1f %18.1f\n", c.at("particle_spacing").get<double>(),
+        c.at("threads").get<int>(), c.at("particles").get<std::size_t>(), c.at("mean_neighbours").get<double>(),
+        c.at("neighbour_search_ns_per_particle").get<double>(), c.at("number_density_ns_per_particle").get<double>(),
+        c.at("sph_density_ns_per_particle").get<double>());
     out += line;
   }
   return out;

@@ -25,22 +25,22 @@
 namespace mps_lab {
 
 struct BenchmarkOptions {
-  std::string scene_path;                 // e.g. scenes/dambreak.json
-  std::vector<std::string> methods;       // empty: every registered method
-  std::vector<double> spacings;           // m; empty: the scene's own
+  std::string scene_path;            // e.g. scenes/dambreak.json
+  std::vector<std::string> methods;  // empty: every registered method
+  std::vector<double> spacings;      // m; empty: the scene's own
   // Time step = time_step_per_spacing * l0 (s/m); 0 keeps the scene's time.time_step.
   // Default 0.02 s/m: 5e-4 s at l0 = 0.025 (the spec's), 1e-4 s at 0.005 (dambreak_fine).
   double time_step_per_spacing = 0.02;
-  std::vector<std::string> overrides;     // further "dotted.key=value"
+  std::vector<std::string> overrides;  // further "dotted.key=value"
   // "dotted.key=factor": the key set to factor * l0 at every spacing (e.g. a method's largest
   // time step, methods.dfsph.max_time_step=1.0 s/m: 5e-3 s at l0 = 0.005).
   std::vector<std::string> per_spacing;
-  double start_time = 0.0;                // s, run (unmeasured) to this time first
+  double start_time = 0.0;  // s, run (unmeasured) to this time first
   long long warmup_steps = 5;
   long long steps = 20;
-  std::vector<int> threads;               // OpenMP thread counts; empty: the current
-  bool kernels = true;                    // also the kernel micro-benchmarks
-  bool progress = false;                  // a line per case on stderr
+  std::vector<int> threads;  // OpenMP thread counts; empty: the current
+  bool kernels = true;       // also the kernel micro-benchmarks
+  bool progress = false;     // a line per case on stderr
 };
 
 // Runs every case; returns {"cases": [...]} with one object per (spacing, threads, method) and
@@ -50,6 +50,5 @@ nlohmann::json run_benchmarks(const BenchmarkOptions& options, const MethodRegis
 
 // The printed report of run_benchmarks(): one table of whole steps and one of kernels.
 std::string benchmark_table(const nlohmann::json& results);
-
 
 }  // namespace mps_lab

@@ -8,9 +8,9 @@
 
 #include <nlohmann/json.hpp>
 
-#include "core/run/driver.hpp"
 #include "core/base/error.hpp"
 #include "core/io/output.hpp"
+#include "core/run/driver.hpp"
 #include "lab/validation.hpp"
 
 namespace mps_lab {
@@ -34,7 +34,8 @@ std::map<std::string, std::vector<double>> read_series(const fs::path& path) {
       header = cells;
       continue;
     }
-    for (std::size_t k = 0; k < header.size() && k < cells.size(); ++k) columns[header[k]].push_back(std::stod(cells[k]));
+    for (std::size_t k = 0; k < header.size() && k < cells.size(); ++k)
+      columns[header[k]].push_back(std::stod(cells[k]));
   }
   return columns;
 }
@@ -63,8 +64,8 @@ RunEvaluation evaluate_run(const fs::path& folder) {
   const auto& time = series.at("time");
 
   const Curve front = front_curve(time, series.at("front"), a, h, gravity);
-  const Curve table2 = read_curve_csv(validation_data_path("martin_moyce_1952_n2_front.csv"), "T_n_t_sqrt_g_over_a",
-                                      "Z_x_over_a");
+  const Curve table2 =
+      read_curve_csv(validation_data_path("martin_moyce_1952_n2_front.csv"), "T_n_t_sqrt_g_over_a", "Z_x_over_a");
   const CurveError front_error = curve_error(front, table2);
   const CurveError shifted = best_shift_error(front, table2, 0.3, 0.001);
   out.front_rms = front_error.rms;
@@ -74,8 +75,8 @@ RunEvaluation evaluate_run(const fs::path& folder) {
   out.front_rms_shifted = shifted.rms;
 
   const Curve height = height_curve(time, series.at("height"), a, h, gravity);
-  const Curve table6 = read_curve_csv(validation_data_path("martin_moyce_1952_n2_height.csv"), "tau_t_sqrt_g_over_a",
-                                      "H_h_over_n2a");
+  const Curve table6 =
+      read_curve_csv(validation_data_path("martin_moyce_1952_n2_height.csv"), "tau_t_sqrt_g_over_a", "H_h_over_n2a");
   const CurveError height_error = curve_error(height, table6);
   out.height_rms = height_error.rms;
   out.height_max = height_error.max;

@@ -21,12 +21,12 @@ struct RunEvaluation {
   double wall_seconds = 0.0;
   double particle_steps_per_second = 0.0;  // fluid particles x steps / wall seconds
   double mean_solver_iterations = 0.0;
-  double front_rms = 0.0;           // Z = front / a vs Martin & Moyce Table 2 at its T points
+  double front_rms = 0.0;  // Z = front / a vs Martin & Moyce Table 2 at its T points
   double front_max = 0.0;
   std::size_t front_points = 0;
-  double front_shift = 0.0;         // best T shift in [-0.3, 0.3] (positive: simulation ahead)
+  double front_shift = 0.0;  // best T shift in [-0.3, 0.3] (positive: simulation ahead)
   double front_rms_shifted = 0.0;
-  double height_rms = 0.0;          // H* vs Martin & Moyce Table 6 at its tau points
+  double height_rms = 0.0;  // H* vs Martin & Moyce Table 6 at its tau points
   double height_max = 0.0;
   std::size_t height_points = 0;
   double density_error_mean = 0.0;  // time average of the common density_error column
@@ -41,7 +41,7 @@ std::string summary_csv(const std::vector<RunEvaluation>& rows);
 
 struct CompareOptions {
   std::string scene_path;
-  std::vector<std::string> methods;     // empty: every registered method
+  std::vector<std::string> methods;  // empty: every registered method
   std::filesystem::path output_directory;
   std::vector<std::string> overrides;
   std::optional<double> end_time;

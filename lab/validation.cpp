@@ -62,8 +62,8 @@ CurveError curve_error(const Curve& simulated, const Curve& experiment, double s
     error.max = std::max(error.max, std::fabs(difference));
     ++error.points;
   }
-  error.rms = error.points > 0 ? std::sqrt(sum2 / static_cast<double>(error.points))
-                               : std::numeric_limits<double>::quiet_NaN();
+  error.rms =
+      error.points > 0 ? std::sqrt(sum2 / static_cast<double>(error.points)) : std::numeric_limits<double>::quiet_NaN();
   return error;
 }
 

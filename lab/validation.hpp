@@ -24,10 +24,10 @@ Curve read_curve_csv(const std::string& path, const std::string& x_column, const
 double interpolate(const Curve& curve, double x);
 
 struct CurveError {
-  double rms = 0.0;         // root-mean-square of (simulated - experimental) over the points
-  double max = 0.0;         // largest |simulated - experimental|
-  double shift = 0.0;       // the simulation is compared at x - shift (positive: simulation ahead)
-  std::size_t points = 0;   // experimental points inside the simulated range
+  double rms = 0.0;        // root-mean-square of (simulated - experimental) over the points
+  double max = 0.0;        // largest |simulated - experimental|
+  double shift = 0.0;      // the simulation is compared at x - shift (positive: simulation ahead)
+  std::size_t points = 0;  // experimental points inside the simulated range
 };
 
 // Error of `simulated` at the experiment's own x points, simulated evaluated at x - shift.

@@ -13,8 +13,8 @@
 
 #include <catch2/catch.hpp>
 
-#include "lab/compare.hpp"
 #include "core/run/driver.hpp"
+#include "lab/compare.hpp"
 #include "support.hpp"
 
 namespace mps_lab::testing {

@@ -3,18 +3,18 @@
 // temporary folders, running the built binary.
 #include <algorithm>
 #include <cstdlib>
-#include <limits>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <map>
-#include <stdexcept>
 #include <sstream>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
-#include "core/run/method.hpp"
 #include "core/base/particles.hpp"
 #include "core/io/scene.hpp"
+#include "core/run/method.hpp"
 #include "core/walls/wall_treatment.hpp"
 
 namespace mps_lab::testing {
@@ -69,8 +69,8 @@ struct CommandResult {
 // Runs build/mps_lab with the given arguments (already shell-quoted where needed).
 inline CommandResult run_mps_lab(const std::string& arguments, const std::string& tag) {
   const auto dir = fresh_directory("cli_" + tag);
-  const std::string command = std::string(MPS_LAB_BINARY) + " " + arguments + " > " + (dir / "out").string() +
-                              " 2> " + (dir / "err").string();
+  const std::string command =
+      std::string(MPS_LAB_BINARY) + " " + arguments + " > " + (dir / "out").string() + " 2> " + (dir / "err").string();
   const int status = std::system(command.c_str());
   CommandResult result;
   result.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
@@ -140,7 +140,8 @@ inline double fluid_top(const ParticleSet& particles) {
 inline double fluid_kinetic_energy(const ParticleSet& particles, double density, double spacing) {
   double energy = 0.0;
   for (std::size_t i = 0; i < particles.size(); ++i) {
-    if (particles.type[i] == ParticleType::Fluid) energy += 0.5 * density * spacing * spacing * particles.velocity[i].squaredNorm();
+    if (particles.type[i] == ParticleType::Fluid)
+      energy += 0.5 * density * spacing * spacing * particles.velocity[i].squaredNorm();
   }
   return energy;
 }

@@ -55,9 +55,9 @@ CsrMatrix poisson_5_point(int n) {
 }
 
 struct ParticleMatrixOptions {
-  double jitter = 0.0;          // random displacement of each point, in l0
-  bool shuffle = false;         // unknowns in a random order (particles are not sorted)
-  double row_asymmetry = 0.0;   // rows scaled by 1 + U(-a, a): mildly nonsymmetric (ISPH-like)
+  double jitter = 0.0;         // random displacement of each point, in l0
+  bool shuffle = false;        // unknowns in a random order (particles are not sorted)
+  double row_asymmetry = 0.0;  // rows scaled by 1 + U(-a, a): mildly nonsymmetric (ISPH-like)
 };
 
 // The MPS pressure matrix on an nx x (ny + 1) lattice with spacing l0 = 1: weights

@@ -16,11 +16,11 @@
 #include <spawn.h>
 #include <sys/wait.h>
 
-#include "core/io/checkpoint.hpp"
-#include "lab/compare.hpp"
-#include "core/run/driver.hpp"
 #include "core/base/error.hpp"
+#include "core/io/checkpoint.hpp"
 #include "core/io/output.hpp"
+#include "core/run/driver.hpp"
+#include "lab/compare.hpp"
 #include "support.hpp"
 
 using namespace mps_lab;
@@ -91,8 +91,8 @@ void require_same_run(const fs::path& uninterrupted, const fs::path& resumed) {
   CHECK(series_rows_without_wall_seconds(resumed) == series_rows_without_wall_seconds(uninterrupted));
   const auto a = nlohmann::json::parse(read_text(uninterrupted / "run.json"));
   const auto b = nlohmann::json::parse(read_text(resumed / "run.json"));
-  for (const char* key : {"status", "steps", "simulated_time", "frames", "particles", "solver", "method_summary",
-                          "stability"}) {
+  for (const char* key :
+       {"status", "steps", "simulated_time", "frames", "particles", "solver", "method_summary", "stability"}) {
     INFO(key);
     CHECK(b.value(key, nlohmann::json()) == a.value(key, nlohmann::json()));
   }
@@ -162,7 +162,8 @@ TEST_CASE("checkpoint format: values read back bit for bit - damaged files are o
 
   // Damage of every kind is an InputError of one line naming the file.
   CHECK(checkpoint_error(content).empty());
-  for (const std::size_t size : {content.size() - 1, content.size() / 2, std::size_t{20}, std::size_t{3}, std::size_t{0}}) {
+  for (const std::size_t size :
+       {content.size() - 1, content.size() / 2, std::size_t{20}, std::size_t{3}, std::size_t{0}}) {
     INFO("truncated to " << size << " bytes");
     const std::string error = checkpoint_error(content.substr(0, size));
     CHECK_THAT(error, Catch::StartsWith("run/checkpoint.bin: ") &&
@@ -178,8 +179,7 @@ TEST_CASE("checkpoint format: values read back bit for bit - damaged files are o
              Catch::Contains("run/checkpoint.bin: written by mps_lab rev-a, this is rev-b"));
 
   CheckpointReader partial(content, "run/checkpoint.bin", "rev-a");
-  CHECK_THROWS_WITH(partial.begin_section("stability"),
-                    Catch::Contains("run/checkpoint.bin: no section 'stability'"));
+  CHECK_THROWS_WITH(partial.begin_section("stability"), Catch::Contains("run/checkpoint.bin: no section 'stability'"));
   partial.begin_section("values");
   partial.read_double();
   CHECK_THROWS_WITH(partial.end_section(),
@@ -276,8 +276,9 @@ TEST_CASE("resume of a completed run: an error without a later end time - an ext
   const auto folder = fresh_directory("resume_completed");
   const auto longer = fresh_directory("resume_completed_longer");
   REQUIRE(run_dambreak("mps", folder, 0.1, 0, 100).status == "completed");
-  CHECK_THROWS_WITH(resume(folder), Catch::Contains((folder / "run.json").string() +
-                                                    ": status: the run is complete (t = 0.1 s); give a later --end-time"));
+  CHECK_THROWS_WITH(resume(folder),
+                    Catch::Contains((folder / "run.json").string() +
+                                    ": status: the run is complete (t = 0.1 s); give a later --end-time"));
   CHECK_THROWS_AS(resume(folder, 0.1), InputError);
   // Extended to 0.15 s, the run equals one that ran to 0.15 s at once (fixed dt: the same steps).
   const RunResult extended = resume(folder, 0.15);
@@ -312,7 +313,8 @@ TEST_CASE("compare stops after the interrupted method and its run can then be re
 }
 #endif
 
-TEST_CASE("SIGTERM: the binary finishes the step - checkpoints and exits 143 - then resume completes the run", "[cli]") {
+TEST_CASE("SIGTERM: the binary finishes the step - checkpoints and exits 143 - then resume completes the run",
+          "[cli]") {
   const auto uninterrupted = fresh_directory("sigterm_uninterrupted");
   const auto folder = fresh_directory("sigterm_interrupted");
   const std::string scene = scene_path("dambreak.json");
@@ -327,8 +329,9 @@ TEST_CASE("SIGTERM: the binary finishes the step - checkpoints and exits 143 - t
   posix_spawn_file_actions_addopen(&files, STDOUT_FILENO, out.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
   posix_spawn_file_actions_addopen(&files, STDERR_FILENO, err.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
   const auto run_folder = folder / "run";
-  std::vector<std::string> arguments = {MPS_LAB_BINARY, "run",       "--method=mps",     scene,  "--out",
-                                        run_folder.string(), "--end-time", "0.5", "--checkpoint-every", "50"};
+  std::vector<std::string> arguments = {
+      MPS_LAB_BINARY, "run", "--method=mps",       scene, "--out", run_folder.string(),
+      "--end-time",   "0.5", "--checkpoint-every", "50"};
   std::vector<char*> argv;
   for (auto& argument : arguments) argv.push_back(argument.data());
   argv.push_back(nullptr);
@@ -367,7 +370,7 @@ TEST_CASE("SIGTERM: the binary finishes the step - checkpoints and exits 143 - t
   CHECK(summary["checkpoint"]["step"] == stopped_at);
   CHECK(fs::exists(run_folder / "checkpoint.bin"));
   CHECK(fs::exists(run_folder / (frame_stem(stopped_at) + ".csv")));  // the final frame
-  for (const auto& entry : fs::directory_iterator(run_folder)) {  // no temporary or partial files
+  for (const auto& entry : fs::directory_iterator(run_folder)) {      // no temporary or partial files
     const std::string name = entry.path().filename().string();
     INFO(name);
     CHECK(name.find(".tmp") == std::string::npos);

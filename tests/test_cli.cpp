@@ -66,9 +66,11 @@ TEST_CASE("bad input: one line naming the problem - non-zero exit - nothing run"
       {"run " + (dir / "unknown_key.json").string(), "unknown_key.json: physics.viscosity: unknown key", 2},
       {"run " + (dir / "missing.json").string(), "missing.json: cannot open the scene file", 2},
       {"run --method=sph " + scene_path("dambreak.json"), "--method: sph: unknown method (registered: ", 2},
-      {"run " + scene_path("dambreak.json") + " --set time.time_step=-1", "time.time_step: got -1, expected a number > 0", 2},
+      {"run " + scene_path("dambreak.json") + " --set time.time_step=-1",
+       "time.time_step: got -1, expected a number > 0", 2},
       {"run " + scene_path("dambreak.json") + " --set nonsense", "--set: nonsense: expected key=value", 2},
-      {"run " + scene_path("dambreak.json") + " --out /proc/mps_lab_cannot_write", "/proc/mps_lab_cannot_write: cannot create the output folder", 3},
+      {"run " + scene_path("dambreak.json") + " --out /proc/mps_lab_cannot_write",
+       "/proc/mps_lab_cannot_write: cannot create the output folder", 3},
   };
   for (const auto& test : cases) {
     INFO(test.arguments);

@@ -1,8 +1,8 @@
 // The comparison metrics (lab/validation.hpp, lab/compare.hpp) on series with a known answer.
 #include <catch2/catch.hpp>
 
-#include "lab/compare.hpp"
 #include "core/io/output.hpp"
+#include "lab/compare.hpp"
 #include "lab/validation.hpp"
 #include "support.hpp"
 
@@ -12,8 +12,8 @@ using namespace mps_lab::testing;
 namespace {
 
 const Curve& table2() {
-  static const Curve curve = read_curve_csv(validation_data_path("martin_moyce_1952_n2_front.csv"),
-                                            "T_n_t_sqrt_g_over_a", "Z_x_over_a");
+  static const Curve curve =
+      read_curve_csv(validation_data_path("martin_moyce_1952_n2_front.csv"), "T_n_t_sqrt_g_over_a", "Z_x_over_a");
   return curve;
 }
 
@@ -25,8 +25,10 @@ std::filesystem::path synthetic_run(const std::string& name, Function z_of_T) {
   const auto folder = fresh_directory("synthetic_" + name);
   const double a = 0.225, h = 0.475, g = 9.81;
   const double scale = std::sqrt(g * h) / a;  // T per second
-  nlohmann::json run = {{"method", name},       {"status", "completed"},
-                        {"steps", 1000},        {"wall_seconds", 2.0},
+  nlohmann::json run = {{"method", name},
+                        {"status", "completed"},
+                        {"steps", 1000},
+                        {"wall_seconds", 2.0},
                         {"fluid_particle_steps_per_second", 85500.0},
                         {"solver", {{"mean_iterations", 12.5}}},
                         {"particles", {{"ghost_final", 3}}},
@@ -87,11 +89,13 @@ TEST_CASE("the time-shift search finds a planted shift", "[compare]") {
 }
 
 TEST_CASE("summary.csv has one row per method with every column", "[compare]") {
-  const std::vector<RunEvaluation> rows = {evaluate_run(synthetic_run("a", [](double T) { return experiment_z(T); })),
-                                           evaluate_run(synthetic_run("b", [](double T) { return experiment_z(T) + 0.05; }))};
+  const std::vector<RunEvaluation> rows = {
+      evaluate_run(synthetic_run("a", [](double T) { return experiment_z(T); })),
+      evaluate_run(synthetic_run("b", [](double T) { return experiment_z(T) + 0.05; }))};
   const std::string text = summary_csv(rows);
   const auto header = text.substr(0, text.find('\n'));
-  CHECK(header.find("method,status,steps,wall_seconds,particle_steps_per_second,mean_solver_iterations,front_rms") == 0);
+  CHECK(header.find("method,status,steps,wall_seconds,particle_steps_per_second,mean_solver_iterations,front_rms") ==
+        0);
   std::size_t lines = 0;
   for (char c : text) lines += c == '\n';
   CHECK(lines == 3);

@@ -46,21 +46,21 @@ struct StillWater {
   double max_density_error = 0.0;                     // over the solves that stopped below the cap
   long long capped_solves = 0;
   std::size_t ghosts = 0;
-  double min_wall_distance = 1e9;                     // m, fluid to the nearest wall particle line
+  double min_wall_distance = 1e9;                              // m, fluid to the nearest wall particle line
   std::vector<double> depth = {0.05, 0.10, 0.15, 0.20, 0.25};  // m below the top particle centres
-  std::vector<double> ratio;                          // mean p / rho g (H - y) per depth bin
-  double bed_ratio = 0.0;                             // mean bed pressure / rho g (H - y_b - l0/2)
+  std::vector<double> ratio;                                   // mean p / rho g (H - y) per depth bin
+  double bed_ratio = 0.0;                                      // mean bed pressure / rho g (H - y_b - l0/2)
 };
 
-
 StillWater run_still_water(const std::string& time_step_rule) {
-  const Scene scene = load("hydrostatic.json", {"time.end_time=3.0", "methods.dfsph.time_step_rule=\"" + time_step_rule + "\""});
+  const Scene scene =
+      load("hydrostatic.json", {"time.end_time=3.0", "methods.dfsph.time_step_rule=\"" + time_step_rule + "\""});
   Simulation simulation(scene, *registries().methods.find("dfsph"));
   const double l0 = scene.particle_spacing, rho = scene.physics.density, g = 9.81;
   const long long cap = scene.method_config("dfsph").parameters.integer("density_max_iterations");
   const auto& p = simulation.particles();
   StillWater out;
-  const double top = fluid_top(p);  // m
+  const double top = fluid_top(p);        // m
   const double surface = top + 0.5 * l0;  // H
   const Vec2 centroid0 = fluid_centroid(p);
   const double fluid_mass = rho * l0 * l0 * static_cast<double>(p.count(ParticleType::Fluid));
@@ -81,8 +81,9 @@ StillWater run_still_water(const std::string& time_step_rule) {
       if (p.type[i] != ParticleType::Fluid) continue;
       energy += 0.5 * rho * l0 * l0 * p.velocity[i].squaredNorm();
       max_speed = std::max(max_speed, p.velocity[i].norm());
-      out.min_wall_distance = std::min({out.min_wall_distance, p.position[i].x() - scene.domain.min.x(),
-                                        scene.domain.max.x() - p.position[i].x(), p.position[i].y() - scene.domain.min.y()});
+      out.min_wall_distance =
+          std::min({out.min_wall_distance, p.position[i].x() - scene.domain.min.x(),
+                    scene.domain.max.x() - p.position[i].x(), p.position[i].y() - scene.domain.min.y()});
     }
     if (t >= 1.0) out.max_speed_late = std::max(out.max_speed_late, max_speed);
     if (t >= 1.0 && t < 2.0) out.max_energy_1_2 = std::max(out.max_energy_1_2, energy);
@@ -102,7 +103,8 @@ StillWater run_still_water(const std::string& time_step_rule) {
           }
         }
       } else if (p.type[i] == ParticleType::Wall && p.wall_layer[i] == 1 && p.position[i].y() < 1e-9 &&
-                 p.position[i].x() > scene.domain.min.x() + 2.5 * l0 && p.position[i].x() < scene.domain.max.x() - 2.5 * l0) {
+                 p.position[i].x() > scene.domain.min.x() + 2.5 * l0 &&
+                 p.position[i].x() < scene.domain.max.x() - 2.5 * l0) {
         bed_sum += p.pressure[i];  // the bed under the water, away from the corners
         bed_reference += rho * g * (surface - p.position[i].y() - 0.5 * l0);
       }
@@ -126,8 +128,8 @@ TEST_CASE("DFSPH hydrostatics: still water stays still - its pressure is rho g (
     CHECK(w.max_density_error <= 1e-4);  // default density_tolerance
     INFO("max speed over [1, 3] s " << w.max_speed_late << " m/s");
     CHECK(w.max_speed_late < std::sqrt(9.81 * l0));
-    INFO("kinetic energy max " << w.max_energy_1_2 << " / " << w.max_energy_2_3 << " J/m over [1,2] / [2,3] s; potential "
-                               << w.potential << " J/m");
+    INFO("kinetic energy max " << w.max_energy_1_2 << " / " << w.max_energy_2_3
+                               << " J/m over [1,2] / [2,3] s; potential " << w.potential << " J/m");
     CHECK(std::max(w.max_energy_1_2, w.max_energy_2_3) < 0.01 * w.potential);
     CHECK(w.max_energy_2_3 <= w.max_energy_1_2);
     INFO("centre of mass: rise " << w.max_rise / l0 << " l0, sideways " << w.max_sideways / l0 << " l0");

@@ -1,12 +1,12 @@
 // The dfsph method through the driver: time-step rules, stopping rules as reported per step,
 // parameter checks, determinism across thread counts.
-#include <catch2/catch.hpp>
 #include <omp.h>
+#include <catch2/catch.hpp>
 
 #include <cmath>
 
-#include "core/run/driver.hpp"
 #include "core/base/error.hpp"
+#include "core/run/driver.hpp"
 #include "support.hpp"
 
 using namespace mps_lab;
@@ -22,9 +22,8 @@ enum Column { kDivergenceIterations = 0, kDivergenceError, kDensityIterations, k
 }  // namespace
 
 TEST_CASE("DFSPH declares its statistics and reports the density solve as the main solve", "[dfsph]") {
-  CHECK(dfsph().series_columns ==
-        std::vector<std::string>{"divergence_iterations", "divergence_error", "density_iterations", "density_error",
-                                 "compression"});
+  CHECK(dfsph().series_columns == std::vector<std::string>{"divergence_iterations", "divergence_error",
+                                                           "density_iterations", "density_error", "compression"});
   // The boundary model only, no measure: Akinci boundaries alone keep the fluid in.
   CHECK(dfsph().default_wall_treatments == std::vector<std::string>{"akinci_boundary"});
   CHECK(dfsph().wall_samples);  // and every boundary model of wall samples (tests/test_dfsph_walls.cpp)
@@ -79,27 +78,31 @@ TEST_CASE("DFSPH first dam-break step: solvers stop at their tolerances and caps
   const StepReport loose = first_step({"methods.dfsph.density_tolerance=1e-3"});
   CHECK(loose.extra[kDensityError] <= 1e-3);
   CHECK(loose.extra[kDensityIterations] < standard.extra[kDensityIterations]);
-  const StepReport capped = first_step({"methods.dfsph.density_tolerance=1e-7", "methods.dfsph.density_max_iterations=3"});
+  const StepReport capped =
+      first_step({"methods.dfsph.density_tolerance=1e-7", "methods.dfsph.density_max_iterations=3"});
   CHECK(capped.extra[kDensityIterations] == 3);
   CHECK(capped.extra[kDensityError] > 1e-7);
   // A capped solve is counted in run.json's method summary, or stops the run if asked to.
-  const Scene counted = load("dambreak.json", {"methods.dfsph.density_tolerance=1e-7", "methods.dfsph.density_max_iterations=3"});
+  const Scene counted =
+      load("dambreak.json", {"methods.dfsph.density_tolerance=1e-7", "methods.dfsph.density_max_iterations=3"});
   Simulation simulation(counted, dfsph());
   simulation.advance();
   CHECK(simulation.method().summary()["density_solver"]["not_converged"] == 1);
   CHECK(simulation.monitor().count("solver") == 1);
-  const Scene strict = load("dambreak.json", {"methods.dfsph.density_tolerance=1e-7", "methods.dfsph.density_max_iterations=3",
-                                              "stability.on_solver_failure=stop"});
+  const Scene strict =
+      load("dambreak.json", {"methods.dfsph.density_tolerance=1e-7", "methods.dfsph.density_max_iterations=3",
+                             "stability.on_solver_failure=stop"});
   Simulation failing(strict, dfsph());
-  CHECK_THROWS_WITH(failing.advance(), Catch::Contains("density solver error") && Catch::Contains("after 3 iterations"));
+  CHECK_THROWS_WITH(failing.advance(),
+                    Catch::Contains("density solver error") && Catch::Contains("after 3 iterations"));
 }
 
 TEST_CASE("DFSPH rejects inconsistent bounds with a message naming the key", "[dfsph]") {
   const Scene scene = load("dambreak.json", {"methods.dfsph.min_time_step=0.01"});
   CHECK_THROWS_AS(Simulation(scene, dfsph()), InputError);
   CHECK_THROWS_WITH(Simulation(scene, dfsph()), Catch::Contains("methods.dfsph.min_time_step"));
-  const Scene iterations = load("dambreak.json", {"methods.dfsph.density_min_iterations=5",
-                                                  "methods.dfsph.density_max_iterations=4"});
+  const Scene iterations =
+      load("dambreak.json", {"methods.dfsph.density_min_iterations=5", "methods.dfsph.density_max_iterations=4"});
   CHECK_THROWS_WITH(Simulation(iterations, dfsph()), Catch::Contains("methods.dfsph.density_min_iterations"));
 }
 

@@ -14,8 +14,8 @@ using namespace mps_lab::dfsph;
 
 namespace {
 
-constexpr double kL0 = 0.025;      // m
-constexpr double kRho0 = 1000.0;   // kg/m^3
+constexpr double kL0 = 0.025;     // m
+constexpr double kRho0 = 1000.0;  // kg/m^3
 const double kMass = kRho0 * kL0 * kL0;
 
 // Everything a test needs to call the operators: particles, neighbours, cached kernel.
@@ -43,7 +43,8 @@ struct Setup {
 // Fluid on the lattice points (i, j), |i|, |j| <= half.
 void add_fluid_block(ParticleSet& p, int half, double scale = 1.0) {
   for (int j = -half; j <= half; ++j) {
-    for (int i = -half; i <= half; ++i) p.add(Vec2(i * kL0 * scale, j * kL0 * scale), Vec2::Zero(), ParticleType::Fluid);
+    for (int i = -half; i <= half; ++i)
+      p.add(Vec2(i * kL0 * scale, j * kL0 * scale), Vec2::Zero(), ParticleType::Fluid);
   }
 }
 
@@ -72,8 +73,9 @@ double lattice_sum(int j_min, int j_max, F f) {
 }  // namespace
 
 TEST_CASE("DFSPH density and alpha on a full lattice equal their lattice sums", "[dfsph][operators]") {
-  for (const auto& [kind, support] : {std::pair{SphKernelKind::CubicSpline, 2.0}, std::pair{SphKernelKind::CubicSpline, 2.4},
-                                      std::pair{SphKernelKind::WendlandC2, 3.0}}) {
+  for (const auto& [kind, support] :
+       {std::pair{SphKernelKind::CubicSpline, 2.0}, std::pair{SphKernelKind::CubicSpline, 2.4},
+        std::pair{SphKernelKind::WendlandC2, 3.0}}) {
     Setup s;
     s.kernel = SphKernel(kind, support * kL0);
     add_fluid_block(s.particles, 10);
@@ -86,9 +88,8 @@ TEST_CASE("DFSPH density and alpha on a full lattice equal their lattice sums", 
 
     // Independent sums over the lattice, W(|x_j|) and grad W(0 - x_j).
     const double w_sum = lattice_sum(-6, 6, [&](int i, int j) { return s.kernel.value(kL0 * std::hypot(i, j)); });
-    const double grad2_sum = lattice_sum(-6, 6, [&](int i, int j) {
-      return s.kernel.gradient(Vec2(-i * kL0, -j * kL0)).squaredNorm();
-    });
+    const double grad2_sum =
+        lattice_sum(-6, 6, [&](int i, int j) { return s.kernel.gradient(Vec2(-i * kL0, -j * kL0)).squaredNorm(); });
     INFO("kernel " << static_cast<int>(kind) << " support " << support << " l0");
     // Same sums in a different order: round-off only.
     CHECK(density[centre] == Approx(kMass * w_sum).epsilon(1e-12));
@@ -141,7 +142,8 @@ TEST_CASE("DFSPH boundary volumes on a three-layer bed and the density they give
   Setup single;
   add_bed_and_fluid(single.particles, 12, 2);
   single.prepare(1, BoundaryVolume::Akinci);
-  const double expected = 1.0 / lattice_sum(0, 0, [&](int i, int j) { return single.kernel.value(kL0 * std::hypot(i, j)); });
+  const double expected =
+      1.0 / lattice_sum(0, 0, [&](int i, int j) { return single.kernel.value(kL0 * std::hypot(i, j)); });
   CHECK(single.boundary_mass[single.at(0, 0)] == Approx(kRho0 * expected).epsilon(1e-12));
   CHECK(single.boundary_mass[single.at(0, -1)] == 0.0);  // layer 2 unused
 }
@@ -149,7 +151,8 @@ TEST_CASE("DFSPH boundary volumes on a three-layer bed and the density they give
 TEST_CASE("DFSPH divergence solver stops at its tolerance - respects its iteration bounds", "[dfsph][solver]") {
   // A 15 x 15 block contracting uniformly, v = -c (x - x_c): D rho/Dt = 2 c rho > 0 inside.
   const double c = 2.0, dt = 1e-3;  // 1/s, s: initial error dt * 2c = 4e-3 in the interior
-  const auto solve = [&](double tolerance, long long min_iterations, long long max_iterations, double* check = nullptr) {
+  const auto solve = [&](double tolerance, long long min_iterations, long long max_iterations,
+                         double* check = nullptr) {
     Setup s;
     add_fluid_block(s.particles, 7);
     for (std::size_t i = 0; i < s.particles.size(); ++i) s.particles.velocity[i] = -c * s.particles.position[i];
@@ -159,9 +162,9 @@ TEST_CASE("DFSPH divergence solver stops at its tolerance - respects its iterati
     compute_densities(s.particles, sph, density);
     compute_dfsph_factors(s.particles, sph, density, alpha);
     SolverWorkspace workspace;
-    const SolverOutcome outcome = correct_divergence_error(s.particles, sph, density, alpha, dt,
-                                                           {tolerance, min_iterations, max_iterations, 0.0}, 0,
-                                                           stiffness, workspace);
+    const SolverOutcome outcome =
+        correct_divergence_error(s.particles, sph, density, alpha, dt, {tolerance, min_iterations, max_iterations, 0.0},
+                                 0, stiffness, workspace);
     if (check != nullptr) {  // the error of the returned velocities, recomputed here
       std::vector<double> rate;
       compute_density_change_rate(s.particles, sph, rate);
@@ -193,7 +196,8 @@ TEST_CASE("DFSPH density solver stops at its tolerance - respects its iteration 
   // A 15 x 15 block at rest on a lattice compressed by 1 % in each direction: rho = 1.0209 rho0
   // inside, so the mean predicted error starts near 1 %.
   const double dt = 5e-4;
-  const auto solve = [&](double tolerance, long long min_iterations, long long max_iterations, double* check = nullptr) {
+  const auto solve = [&](double tolerance, long long min_iterations, long long max_iterations,
+                         double* check = nullptr) {
     Setup s;
     add_fluid_block(s.particles, 7, 0.99);
     s.prepare();
@@ -202,9 +206,8 @@ TEST_CASE("DFSPH density solver stops at its tolerance - respects its iteration 
     compute_densities(s.particles, sph, density);
     compute_dfsph_factors(s.particles, sph, density, alpha);
     SolverWorkspace workspace;
-    const SolverOutcome outcome = correct_density_error(s.particles, sph, density, alpha, dt,
-                                                        {tolerance, min_iterations, max_iterations, 0.0}, stiffness,
-                                                        workspace);
+    const SolverOutcome outcome = correct_density_error(
+        s.particles, sph, density, alpha, dt, {tolerance, min_iterations, max_iterations, 0.0}, stiffness, workspace);
     if (check != nullptr) {
       std::vector<double> rate;
       compute_density_change_rate(s.particles, sph, rate);

@@ -15,10 +15,10 @@
 #include <cmath>
 #include <set>
 
-#include "lab/compare.hpp"
-#include "core/run/driver.hpp"
 #include "core/base/error.hpp"
+#include "core/run/driver.hpp"
 #include "core/walls/wall_geometry.hpp"
+#include "lab/compare.hpp"
 #include "support.hpp"
 
 using namespace mps_lab;
@@ -39,12 +39,12 @@ const std::string kMirror = boundary_model("mirror_particles", R"({"crossing":"r
 const std::string kDistance = boundary_model("distance_function", R"({"crossing":"none"})");
 
 struct StillWater {
-  double max_depth = 0.0;        // m, deepest fluid particle beyond a wall surface, any step
+  double max_depth = 0.0;  // m, deepest fluid particle beyond a wall surface, any step
   std::size_t ghosts = 0;
   long long capped_solves = 0;
-  double max_speed_late = 0.0;   // m/s, over the averaging window
+  double max_speed_late = 0.0;                                 // m/s, over the averaging window
   std::vector<double> depth = {0.05, 0.10, 0.15, 0.20, 0.25};  // m below the top particle centres
-  std::vector<double> ratio;     // time-mean p / rho g (H - y) per depth bin; 0.25 m: the first row
+  std::vector<double> ratio;  // time-mean p / rho g (H - y) per depth bin; 0.25 m: the first row
 };
 
 // scenes/hydrostatic.json to `end_time` with dfsph and the given overrides; the pressure

@@ -1,8 +1,8 @@
 // The measured quantities of series.csv (core/run/diagnostics.hpp, docs/validation.md).
 #include <catch2/catch.hpp>
 
-#include "core/run/diagnostics.hpp"
 #include "core/io/geometry.hpp"
+#include "core/run/diagnostics.hpp"
 #include "support.hpp"
 
 using namespace mps_lab;
@@ -49,16 +49,19 @@ TEST_CASE("the common density error is about 0 on the lattice and sees compressi
 }
 
 TEST_CASE("pressure sensors: Shepard average of the fluid pressure - 0 when dry", "[diagnostics]") {
-  const Scene scene = load("hydrostatic.json", {"diagnostics.pressure_sensors=[{\"name\": \"mid\", \"position\": [0.25, 0.1]},"
-                                                 "{\"name\": \"dry\", \"position\": [0.25, 0.5]}]"});
+  const Scene scene =
+      load("hydrostatic.json", {"diagnostics.pressure_sensors=[{\"name\": \"mid\", \"position\": [0.25, 0.1]},"
+                                "{\"name\": \"dry\", \"position\": [0.25, 0.5]}]"});
   ParticleSet particles = build_particles(scene);
   // A linear pressure field: the kernel-weighted average at a lattice point with a symmetric
   // full neighbourhood is exact (the weights are symmetric about the point).
-  for (std::size_t i = 0; i < particles.size(); ++i) particles.pressure[i] = 3000.0 - 9810.0 * particles.position[i].y() + 50.0 * particles.position[i].x();
+  for (std::size_t i = 0; i < particles.size(); ++i)
+    particles.pressure[i] = 3000.0 - 9810.0 * particles.position[i].y() + 50.0 * particles.position[i].x();
   const FlowMeasures m = measure_flow(particles, scene);
   REQUIRE(m.sensor_pressure.size() == 2);
   CHECK(m.sensor_pressure[0] == Approx(3000.0 - 981.0 + 12.5).epsilon(1e-12));
   CHECK(m.sensor_pressure[1] == 0.0);
-  CHECK_THROWS_WITH(load("hydrostatic.json", {"diagnostics.pressure_sensors=[{\"name\": \"a b\", \"position\": [0, 0]}]"}),
-                    Catch::Contains("diagnostics.pressure_sensors[0].name"));
+  CHECK_THROWS_WITH(
+      load("hydrostatic.json", {"diagnostics.pressure_sensors=[{\"name\": \"a b\", \"position\": [0, 0]}]"}),
+      Catch::Contains("diagnostics.pressure_sensors[0].name"));
 }

@@ -9,7 +9,9 @@ using namespace mps_lab;
 using namespace mps_lab::testing;
 
 namespace {
-std::string doc(const std::string& relative) { return read_text(std::string(MPS_LAB_SOURCE_DIR) + "/docs/" + relative); }
+std::string doc(const std::string& relative) {
+  return read_text(std::string(MPS_LAB_SOURCE_DIR) + "/docs/" + relative);
+}
 }  // namespace
 
 TEST_CASE("every shared scene key and wall-treatment parameter is in docs/scene-format.md", "[docs]") {

@@ -1,13 +1,13 @@
 // The spec's dam break to t = 2 s (scenes/dambreak.json unchanged, isph defaults), against
 // Martin & Moyce (1952), n^2 = 2, Table 2 (surge front) and Table 6 (residual height); and the
 // method's determinism across thread counts.
-#include <catch2/catch.hpp>
 #include <omp.h>
+#include <catch2/catch.hpp>
 
 #include <algorithm>
 
-#include "core/run/driver.hpp"
 #include "core/base/error.hpp"
+#include "core/run/driver.hpp"
 #include "dambreak_checks.hpp"
 
 using namespace mps_lab;
@@ -68,8 +68,10 @@ TEST_CASE("ISPH: same scene - 1 and 2 threads - bit-identical particles", "[isph
   CHECK(different == 0);
 }
 
-TEST_CASE("ISPH CFL step: cfl l0 / (max |u| + |g| dt) - bounded - and the dam break on Martin & Moyce in a quarter of the steps",
-          "[isph][validation]") {
+TEST_CASE(
+    "ISPH CFL step: cfl l0 / (max |u| + |g| dt) - bounded - and the dam break on Martin & Moyce in a quarter of the "
+    "steps",
+    "[isph][validation]") {
   const std::vector<std::string> cfl = {"methods.isph.time_step_rule=\"cfl\""};
   {
     // cfl_number 0.1: with the default 0.25 the bound (2e-3 s) holds up to 3.1 m/s, faster than

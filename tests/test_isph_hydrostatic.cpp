@@ -30,7 +30,7 @@ TEST_CASE("ISPH hydrostatics: still water stays still and its pressure is rho g 
   const double l0 = scene.particle_spacing;
   const double rho = scene.physics.density, g = 9.81;
   const double top = fluid_top(simulation.particles());  // m
-  const double surface = top + 0.5 * l0;  // H, m
+  const double surface = top + 0.5 * l0;                 // H, m
   const Vec2 centroid0 = fluid_centroid(simulation.particles());
   const double fluid_mass = rho * l0 * l0 * static_cast<double>(simulation.particles().count(ParticleType::Fluid));
   const double potential = fluid_mass * g * (centroid0.y() - (scene.domain.min.y() + 0.5 * l0));  // J/m

@@ -5,8 +5,8 @@
 
 #include <catch2/catch.hpp>
 
-#include "core/run/driver.hpp"
 #include "core/kernels/sph_kernels.hpp"
+#include "core/run/driver.hpp"
 #include "methods/isph/isph_operators.hpp"
 #include "methods/isph/isph_pressure.hpp"
 #include "support.hpp"

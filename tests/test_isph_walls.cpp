@@ -9,11 +9,11 @@
 #include <memory>
 #include <set>
 
-#include "lab/compare.hpp"
-#include "core/run/driver.hpp"
 #include "core/io/geometry.hpp"
+#include "core/run/driver.hpp"
 #include "core/search/neighbour_search.hpp"
 #include "core/walls/wall_geometry.hpp"
+#include "lab/compare.hpp"
 #include "methods/isph/isph_operators.hpp"
 #include "methods/isph/isph_pressure.hpp"
 #include "support.hpp"
@@ -49,8 +49,11 @@ struct Tank {
 };
 
 std::unique_ptr<Tank> still_tank(const std::string& model) {
-  auto tank = std::unique_ptr<Tank>(new Tank{load("hydrostatic.json", {"method=isph", boundary_model(model)}), {}, {},
-                                             {}, SphKernel(SphKernelKind::CubicSpline, 2.4 * 0.025)});
+  auto tank = std::unique_ptr<Tank>(new Tank{load("hydrostatic.json", {"method=isph", boundary_model(model)}),
+                                             {},
+                                             {},
+                                             {},
+                                             SphKernel(SphKernelKind::CubicSpline, 2.4 * 0.025)});
   Tank& t = *tank;
   const double l0 = t.scene.particle_spacing;
   REQUIRE(l0 == 0.025);
@@ -71,9 +74,10 @@ std::unique_ptr<Tank> still_tank(const std::string& model) {
 
 }  // namespace
 
-TEST_CASE("ISPH wall samples complete the support: rhox = rho0 - div of a uniform ux = 0 - exact hydrostatic "
-          "gradient - PPE rows = the Laplacian",
-          "[isph][walls]") {
+TEST_CASE(
+    "ISPH wall samples complete the support: rhox = rho0 - div of a uniform ux = 0 - exact hydrostatic "
+    "gradient - PPE rows = the Laplacian",
+    "[isph][walls]") {
   // On the lattice every model puts its samples where wall particles would be: dummy layers on
   // the wall lattice, mirror images of lattice particles across surfaces half a spacing away,
   // the distance function's virtual rows (quadrature_points = 1) on the same lattice. So the
@@ -174,7 +178,8 @@ TEST_CASE("ISPH wall samples complete the support: rhox = rho0 - div of a unifor
       const auto i = static_cast<std::size_t>(solver.particle_of_row()[row]);
       const double expected = rho0 * l0 * l0 * (source[i] - laplacian[i]);
       largest = std::max(largest, std::fabs(expected));
-      CHECK(residual[static_cast<Eigen::Index>(row)] == Approx(expected).margin(1e-9 * std::max(1.0, std::fabs(expected))));
+      CHECK(residual[static_cast<Eigen::Index>(row)] ==
+            Approx(expected).margin(1e-9 * std::max(1.0, std::fabs(expected))));
     }
     CHECK(largest > 1.0);  // the comparison is not between zeros
   }
@@ -246,10 +251,10 @@ TEST_CASE("ISPH with wall samples: still water stays inside and its pressure is 
     const double slope_ratio = slope_sum / samples / (-rho * g);
     const double wall_pressure = wall_sum / samples;  // Pa
     const double depth = top + 0.5 * l0 - bed;        // H: water surface above the bed surface, m
-    INFO("dp/dy / (-rho g) = " << slope_ratio << "; wall pressure " << wall_pressure << " Pa = "
-                               << wall_pressure / (rho * g * (depth - 0.5 * l0)) << " rho g (H - l0/2) = "
-                               << wall_pressure / (rho * g * depth) << " rho g H; KE max " << max_energy
-                               << " J/m, max speed " << max_speed << " m/s; deepest " << deepest / l0
+    INFO("dp/dy / (-rho g) = " << slope_ratio << "; wall pressure " << wall_pressure
+                               << " Pa = " << wall_pressure / (rho * g * (depth - 0.5 * l0))
+                               << " rho g (H - l0/2) = " << wall_pressure / (rho * g * depth) << " rho g H; KE max "
+                               << max_energy << " J/m, max speed " << max_speed << " m/s; deepest " << deepest / l0
                                << " l0 beyond a wall surface");
     CHECK(deepest <= 0.5 * l0);  // no fluid beyond the first wall-particle line (penetration)
     CHECK(deepest == 0.0);       // measured: not even beyond the surface
@@ -366,7 +371,8 @@ TEST_CASE("ISPH dam break to 2 s: each wall-sample model keeps the fluid in with
   }
 }
 
-TEST_CASE("ISPH with wall samples: interrupted and resumed = uninterrupted - bit for bit", "[isph][walls][checkpoint]") {
+TEST_CASE("ISPH with wall samples: interrupted and resumed = uninterrupted - bit for bit",
+          "[isph][walls][checkpoint]") {
   // The samples of the last search feed the next predictor (viscous term): the checkpoint
   // carries them. 0.3 s of dam break (600 steps), stopped at step 311 (off the frame and series
   // schedules) and resumed.

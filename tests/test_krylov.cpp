@@ -6,8 +6,8 @@
 #include <random>
 #include <vector>
 
-#include <catch2/catch.hpp>
 #include <omp.h>
+#include <catch2/catch.hpp>
 
 #include <Eigen/Dense>
 #include <Eigen/IterativeLinearSolvers>
@@ -144,7 +144,8 @@ TEST_CASE("ILU(0) of a tridiagonal matrix is its exact LU: CG converges in one i
   const std::vector<double> b = random_vector(matrix.rows, 2);
   std::vector<double> x(50, 0.0);
   KrylovWorkspace workspace;
-  const KrylovResult result = conjugate_gradient(matrix, b.data(), x.data(), ilu, KrylovSettings{1e-12, 100}, workspace);
+  const KrylovResult result =
+      conjugate_gradient(matrix, b.data(), x.data(), ilu, KrylovSettings{1e-12, 100}, workspace);
   CHECK(result.converged);
   CHECK(result.iterations == 1);
   CHECK(result.residual < 1e-12);

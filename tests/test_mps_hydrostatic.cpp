@@ -14,8 +14,8 @@
 //     (measured 0.7-5%; the margin covers the noise of a mean over 20 frames of a noisy field).
 #include <catch2/catch.hpp>
 
-#include "core/run/driver.hpp"
 #include "core/io/geometry.hpp"
+#include "core/run/driver.hpp"
 #include "support.hpp"
 
 using namespace mps_lab;
@@ -27,7 +27,7 @@ TEST_CASE("MPS hydrostatics: still water stays in place and its mean pressure is
   const double l0 = scene.particle_spacing;
   const double rho = scene.physics.density, g = 9.81;
   const double top = fluid_top(simulation.particles());  // m
-  const double surface = top + 0.5 * l0;  // H, m
+  const double surface = top + 0.5 * l0;                 // H, m
   const Vec2 centroid0 = fluid_centroid(simulation.particles());
   const double fluid_mass = rho * l0 * l0 * static_cast<double>(simulation.particles().count(ParticleType::Fluid));
   const double potential = fluid_mass * g * (centroid0.y() - (scene.domain.min.y() + 0.5 * l0));  // J/m

@@ -74,9 +74,11 @@ TEST_CASE("MPS gradient is exact for linear and quadratic fields on the lattice"
   std::vector<char> carries(p.size(), 1);
   std::vector<Vec2> acceleration(p.size(), Vec2::Zero());
 
-  for (std::size_t i = 0; i < p.size(); ++i) p.pressure[i] = 5000.0 + 3000.0 * p.position[i].x() - 9810.0 * p.position[i].y();
+  for (std::size_t i = 0; i < p.size(); ++i)
+    p.pressure[i] = 5000.0 + 3000.0 * p.position[i].x() - 9810.0 * p.position[i].y();
   for (bool include_self : {true, false}) {
-    pressure_acceleration(p, list, WallSampleList{}, radius, carries, rho, Vec2(0.0, -9.81), include_self, acceleration);
+    pressure_acceleration(p, list, WallSampleList{}, radius, carries, rho, Vec2(0.0, -9.81), include_self,
+                          acceleration);
     // a = -grad P / rho = (-3, 9.81)
     CHECK(acceleration[block.centre].x() == Approx(-3.0).epsilon(1e-10));
     CHECK(acceleration[block.centre].y() == Approx(9.81).epsilon(1e-10));
@@ -131,7 +133,8 @@ TEST_CASE("PPE: CG agrees with a direct solve - and the system is symmetric posi
   settings.warm_start = false;
   std::vector<double> surface;
   PressurePoissonSolver solver;
-  const auto result = solver.solve(particles, list, WallSampleList{}, n, carries, radius, radius.n0, 5e-4, settings, surface);
+  const auto result =
+      solver.solve(particles, list, WallSampleList{}, n, carries, radius, radius.n0, 5e-4, settings, surface);
   REQUIRE(result.converged);
   REQUIRE(result.unknowns > 100);
   CHECK(result.ungrounded_groups == 0);
@@ -146,7 +149,8 @@ TEST_CASE("PPE: CG agrees with a direct solve - and the system is symmetric posi
   Eigen::VectorXd cg(exact.size());
   std::size_t row = 0;
   for (std::size_t i = 0; i < particles.size(); ++i) {
-    if (carries[i] && surface[i] == 0.0 && particles.type[i] != ParticleType::Ghost) cg[static_cast<Eigen::Index>(row++)] = particles.pressure[i];
+    if (carries[i] && surface[i] == 0.0 && particles.type[i] != ParticleType::Ghost)
+      cg[static_cast<Eigen::Index>(row++)] = particles.pressure[i];
   }
   REQUIRE(row == static_cast<std::size_t>(exact.size()));
   CHECK((cg - exact).norm() <= 1e-8 * exact.norm());
@@ -154,7 +158,8 @@ TEST_CASE("PPE: CG agrees with a direct solve - and the system is symmetric posi
   // Incomplete Cholesky preconditioning converges to the same solution in fewer iterations.
   settings.preconditioner = PreconditionerKind::IncompleteFactorisation;
   PressurePoissonSolver ic_solver;
-  const auto ic = ic_solver.solve(particles, list, WallSampleList{}, n, carries, radius, radius.n0, 5e-4, settings, surface);
+  const auto ic =
+      ic_solver.solve(particles, list, WallSampleList{}, n, carries, radius, radius.n0, 5e-4, settings, surface);
   CHECK(ic.converged);
   CHECK(ic.iterations < result.iterations);
 }

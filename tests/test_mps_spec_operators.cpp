@@ -16,10 +16,10 @@ using namespace mps_lab::spec_testing;
 
 namespace {
 
-constexpr double kRe = 2.1 * kSpacing;         // m
-constexpr double kRMin = 0.01 * kSpacing;      // m
-constexpr double kDensity = 1000.0;            // kg/m^3
-const Vec2 kOrigin(0.5, 0.3);                  // m, away from everything
+constexpr double kRe = 2.1 * kSpacing;     // m
+constexpr double kRMin = 0.01 * kSpacing;  // m
+constexpr double kDensity = 1000.0;        // kg/m^3
+const Vec2 kOrigin(0.5, 0.3);              // m, away from everything
 
 NeighbourList neighbours_of(const ParticleSet& particles, double radius) {
   return find_neighbours(particles.position, particles.type, radius);
@@ -103,7 +103,8 @@ TEST_CASE("spec 2: the Laplacian is 2d/(n0 lambda) sum (u_j - u_i) w_ij", "[mps]
   CHECK(acceleration[0].norm() == 0.0);
 }
 
-TEST_CASE("spec 2: the gradient is d/n0 sum (P_j - P_min) r_ij w_ij / r^2 with P_min over i and its neighbours", "[mps][spec]") {
+TEST_CASE("spec 2: the gradient is d/n0 sum (P_j - P_min) r_ij w_ij / r^2 with P_min over i and its neighbours",
+          "[mps][spec]") {
   // i at the origin, j at (l0, 0), k at (0, l0); w = 1.1 for both, r^2 = l0^2.
   // a_i = -(1/rho) (2/n0) sum_j (P_j - P_min) (r_ij / l0^2) 1.1.
   ParticleSet particles;
@@ -165,8 +166,8 @@ TEST_CASE("spec 3: the defaults of the parameter table", "[mps][spec]") {
 
   std::map<std::string, const WallTreatmentChoice*> walls;
   for (const auto& choice : scene.method_config("mps").wall_treatments) walls[choice.info->name] = &choice;
-  for (const char* name : {"spec_wall_particles", "cfl_velocity_clamp", "wall_repulsion", "wall_position_clamp",
-                           "particle_collision"}) {
+  for (const char* name :
+       {"spec_wall_particles", "cfl_velocity_clamp", "wall_repulsion", "wall_position_clamp", "particle_collision"}) {
     INFO(name);
     REQUIRE(walls.count(name) == 1);
     CHECK(walls[name]->enabled);

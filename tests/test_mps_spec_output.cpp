@@ -27,12 +27,14 @@ FrameData three_particle_frame() {
 
 TEST_CASE("spec 10.1: the CSV frame is x y vx vy pressure type without ghosts", "[mps][spec][output]") {
   const std::string csv = csv_frame(three_particle_frame());
-  CHECK(csv == "x,y,vx,vy,pressure,type\n"
-               "0.1,0.2,0.3,-0.4,1234.5,0\n"
-               "0,0,0,0,10,1\n");
+  CHECK(csv ==
+        "x,y,vx,vy,pressure,type\n"
+        "0.1,0.2,0.3,-0.4,1234.5,0\n"
+        "0,0,0,0,10,1\n");
 }
 
-TEST_CASE("spec 10.2: the VTK frame is legacy 3.0 of VTK_VERTEX cells with typed point data and no ghosts", "[mps][spec][output]") {
+TEST_CASE("spec 10.2: the VTK frame is legacy 3.0 of VTK_VERTEX cells with typed point data and no ghosts",
+          "[mps][spec][output]") {
   const std::string vtk = vtk_frame(three_particle_frame());
   const auto has = [&](const std::string& text) {
     INFO(text);
@@ -47,6 +49,6 @@ TEST_CASE("spec 10.2: the VTK frame is legacy 3.0 of VTK_VERTEX cells with typed
   has("\nSCALARS pressure double 1\nLOOKUP_TABLE default\n1234.5\n10\n");
   has("\nSCALARS type int 1\nLOOKUP_TABLE default\n0\n1\n");
   has("\nVECTORS velocity double\n0.3 -0.4 0\n0 0 0\n");
-  CHECK(vtk.find("99") == std::string::npos);  // the ghost's pressure
+  CHECK(vtk.find("99") == std::string::npos);       // the ghost's pressure
   CHECK(vtk.find("\n5 5 0") == std::string::npos);  // the ghost's position
 }

@@ -105,7 +105,8 @@ ParticleSet cluster(const Vec2& centre, double spacing, const std::vector<std::p
 
 }  // namespace
 
-TEST_CASE("spec 4: the dam-break lattice has 171 fluid and 273 wall particles and a first wall layer of 87", "[mps][spec][geometry]") {
+TEST_CASE("spec 4: the dam-break lattice has 171 fluid and 273 wall particles and a first wall layer of 87",
+          "[mps][spec][geometry]") {
   // Spec §4 note: fluid (i l0, j l0), i = 1..9, j = 1..19; walls 45 x 3 + 23 x 3 x 2 = 273.
   // Layer 1 (facing the fluid, spec §8 decision): the bottom row x = 0..1.0 (41) and the two
   // inner side columns y = l0..0.575 (23 each): 87.
@@ -130,7 +131,10 @@ TEST_CASE("spec 4: the dam-break lattice has 171 fluid and 273 wall particles an
   CHECK(wall_max_y == Approx(0.575).epsilon(1e-12));
 }
 
-TEST_CASE("spec 5.1: the explicit step is g plus viscosity then ux then the CFL hook then rx then walls fixed then the clamp hook", "[mps][spec]") {
+TEST_CASE(
+    "spec 5.1: the explicit step is g plus viscosity then ux then the CFL hook then rx then walls fixed then the clamp "
+    "hook",
+    "[mps][spec]") {
   // nu = 0.01 m^2/s so that the viscous term is large enough to see (the default 1e-6 is
   // checked in the parameter table test). Particles far from the walls:
   //   0, 1: fluid l0 apart, u = (0.1, 0) and (-0.1, 0); each other's only neighbour.
@@ -191,7 +195,8 @@ TEST_CASE("spec 5.1: the explicit step is g plus viscosity then ux then the CFL 
   CHECK(particles.velocity[4] == Vec2::Zero());
 }
 
-TEST_CASE("spec 5.2-8: the correction is u = ux + dt a_p and r = rx + dt^2 a_p with a_p the gradient model", "[mps][spec]") {
+TEST_CASE("spec 5.2-8: the correction is u = ux + dt a_p and r = rx + dt^2 a_p with a_p the gradient model",
+          "[mps][spec]") {
   // A compressed cluster: a centre and its 12 lattice neighbours within 2.1 spacings, at
   // 0.9 l0. n*_centre = 4 (2.1/0.9 - 1) + 4 (2.1/(0.9 sqrt 2) - 1) + 4 (2.1/1.8 - 1) = 8.600
   // > n0: the centre and its four nearest neighbours are unknowns with P > 0, the outer
@@ -245,7 +250,8 @@ TEST_CASE("spec 5.2-5 and 5.2-7: beta = 0.97 decides the surface and negative pr
   CHECK(particles.pressure[0] == 0.0);   // solved negative, clamped
 }
 
-TEST_CASE("spec 8: the PPE rows are 2d/(n0 lambda) w_ij with source 0.2 rho/dt^2 (nx - n0)/n0", "[mps][spec][pressure]") {
+TEST_CASE("spec 8: the PPE rows are 2d/(n0 lambda) w_ij with source 0.2 rho/dt^2 (nx - n0)/n0",
+          "[mps][spec][pressure]") {
   // Three particles in a row l0 apart with given n*: 0.9 n0 (surface, P = 0), 1.05 n0 and
   // exactly 0.97 n0 (not < beta: an unknown). With c = 2d/(n0 lambda) (hand values):
   // row of 1: A_11 = c (1.1 + 1.1), A_12 = -c 1.1; row of 2: A_22 = c (1.1 + 0.05), A_21 = -c 1.1;
@@ -341,7 +347,8 @@ TEST_CASE("spec 8: the first wall layer carries pressure and the outer layers do
   CHECK(report.extra.at(1) + report.extra.at(2) == 171.0 + 87.0);
 }
 
-TEST_CASE("spec 7: a fluid particle beyond l0 (layers + 1) outside the domain or with a NaN coordinate becomes a ghost", "[mps][spec]") {
+TEST_CASE("spec 7: a fluid particle beyond l0 (layers + 1) outside the domain or with a NaN coordinate becomes a ghost",
+          "[mps][spec]") {
   // Margin 0.025 * (3 + 1) = 0.1 m: bounds x in [-0.1, 1.1], y in [-0.1, 0.7]; exactly on a
   // bound is still inside.
   const Scene scene = defaults_scene();
@@ -349,13 +356,13 @@ TEST_CASE("spec 7: a fluid particle beyond l0 (layers + 1) outside the domain or
   const double top = scene.domain.max.y() + escape_margin(scene);
   const double left = scene.domain.min.x() - escape_margin(scene);
   ParticleSet particles;
-  particles.add(Vec2(0.5, top), Vec2(0.0, 1.0), ParticleType::Fluid);          // 0: on the bound
-  particles.add(Vec2(0.5, top + 1e-6), Vec2(0.0, 1.0), ParticleType::Fluid);   // 1: beyond
-  particles.add(Vec2(0.5, 0.69), Vec2(0.0, 1.0), ParticleType::Fluid);         // 2: inside the margin
-  particles.add(Vec2(left - 1e-6, 0.3), Vec2::Zero(), ParticleType::Fluid);    // 3: beyond the left
-  particles.add(Vec2(left + 1e-6, 0.3), Vec2::Zero(), ParticleType::Fluid);    // 4: inside
+  particles.add(Vec2(0.5, top), Vec2(0.0, 1.0), ParticleType::Fluid);         // 0: on the bound
+  particles.add(Vec2(0.5, top + 1e-6), Vec2(0.0, 1.0), ParticleType::Fluid);  // 1: beyond
+  particles.add(Vec2(0.5, 0.69), Vec2(0.0, 1.0), ParticleType::Fluid);        // 2: inside the margin
+  particles.add(Vec2(left - 1e-6, 0.3), Vec2::Zero(), ParticleType::Fluid);   // 3: beyond the left
+  particles.add(Vec2(left + 1e-6, 0.3), Vec2::Zero(), ParticleType::Fluid);   // 4: inside
   particles.add(Vec2(0.5, std::numeric_limits<double>::quiet_NaN()), Vec2::Zero(), ParticleType::Fluid);  // 5
-  particles.add(Vec2(0.5, 0.9), Vec2::Zero(), ParticleType::Wall, 1);          // 6: walls never
+  particles.add(Vec2(0.5, 0.9), Vec2::Zero(), ParticleType::Wall, 1);  // 6: walls never
   CHECK(mark_escaped_as_ghosts(particles, scene) == 3);
   CHECK(particles.type[0] == ParticleType::Fluid);
   CHECK(particles.type[1] == ParticleType::Ghost);

@@ -14,7 +14,7 @@
 
 namespace mps_lab::spec_testing {
 
-constexpr double kSpacing = 0.025;  // l0, m (spec §3)
+constexpr double kSpacing = 0.025;    // l0, m (spec §3)
 constexpr double kTimeStep = 5.0e-4;  // dt, s (spec §3)
 
 // The spec's tank with every value left to its default: what the scene loader and the

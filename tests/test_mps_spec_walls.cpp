@@ -19,10 +19,18 @@ void run_hook(const Scene& scene, const std::vector<std::string>& names, Hook ho
   const NeighbourList list = find_neighbours(particles.position, particles.type, 2.1 * kSpacing);
   WallContext context{particles, &list, kTimeStep, scene};
   switch (hook) {
-    case Hook::ExplicitVelocity: set.after_explicit_velocity(context); break;
-    case Hook::ExplicitPosition: set.after_explicit_position(context); break;
-    case Hook::NeighbourSearch: set.after_neighbour_search(context); break;
-    case Hook::Correction: set.after_correction(context); break;
+    case Hook::ExplicitVelocity:
+      set.after_explicit_velocity(context);
+      break;
+    case Hook::ExplicitPosition:
+      set.after_explicit_position(context);
+      break;
+    case Hook::NeighbourSearch:
+      set.after_neighbour_search(context);
+      break;
+    case Hook::Correction:
+      set.after_correction(context);
+      break;
   }
 }
 
@@ -72,18 +80,19 @@ TEST_CASE("spec 6.2: wall repulsion pushes fluid closer than l0 by dt 196.2 (1 -
   CHECK(particles.velocity[7] == Vec2::Zero());
 }
 
-TEST_CASE("spec 6.3: the position clamp puts particles on the bounds l0/2 inside the walls with v_n reversed times 0.2", "[mps][spec][walls]") {
+TEST_CASE("spec 6.3: the position clamp puts particles on the bounds l0/2 inside the walls with v_n reversed times 0.2",
+          "[mps][spec][walls]") {
   // Bounds x >= 0.0125, x <= 0.9875, y >= 0.0125, no top bound. A particle past a bound moving
   // into the wall: on the bound, v_n -> -0.2 v_n, tangential velocity kept.
   const Scene scene = defaults_scene();
   for (Hook hook : {Hook::ExplicitPosition, Hook::Correction}) {
     INFO("hook " << static_cast<int>(hook));
     ParticleSet particles;
-    particles.add(Vec2(0.005, 0.3), Vec2(-1.0, 0.5), ParticleType::Fluid);   // left
-    particles.add(Vec2(0.999, 0.3), Vec2(2.0, 0.1), ParticleType::Fluid);    // right
-    particles.add(Vec2(0.5, 0.001), Vec2(0.3, -3.0), ParticleType::Fluid);   // bottom
-    particles.add(Vec2(0.5, 0.65), Vec2(0.0, 1.0), ParticleType::Fluid);     // above the open top
-    particles.add(Vec2(0.5, 0.3), Vec2(1.0, 1.0), ParticleType::Fluid);      // inside
+    particles.add(Vec2(0.005, 0.3), Vec2(-1.0, 0.5), ParticleType::Fluid);  // left
+    particles.add(Vec2(0.999, 0.3), Vec2(2.0, 0.1), ParticleType::Fluid);   // right
+    particles.add(Vec2(0.5, 0.001), Vec2(0.3, -3.0), ParticleType::Fluid);  // bottom
+    particles.add(Vec2(0.5, 0.65), Vec2(0.0, 1.0), ParticleType::Fluid);    // above the open top
+    particles.add(Vec2(0.5, 0.3), Vec2(1.0, 1.0), ParticleType::Fluid);     // inside
     run_hook(scene, {"wall_position_clamp"}, hook, particles);
     CHECK(particles.position[0].x() == Approx(0.0125).epsilon(1e-12));
     CHECK(particles.velocity[0].x() == Approx(0.2).epsilon(1e-12));  // -0.2 * -1
@@ -101,7 +110,8 @@ TEST_CASE("spec 6.3: the position clamp puts particles on the bounds l0/2 inside
   }
 }
 
-TEST_CASE("spec 6.4: collision of approaching particles closer than 0.5 l0 with e = 0.2 and impulse factor 0.5", "[mps][spec][walls]") {
+TEST_CASE("spec 6.4: collision of approaching particles closer than 0.5 l0 with e = 0.2 and impulse factor 0.5",
+          "[mps][spec][walls]") {
   const Scene scene = defaults_scene();
   ParticleSet particles;
   // 0, 1: 0.4 l0 apart along x, approaching at 1 m/s each. Normal from 0 to 1 is +x,

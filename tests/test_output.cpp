@@ -4,9 +4,9 @@
 
 #include <catch2/catch.hpp>
 
-#include "core/run/driver.hpp"
 #include "core/io/geometry.hpp"
 #include "core/io/output.hpp"
+#include "core/run/driver.hpp"
 #include "support.hpp"
 
 using namespace mps_lab;
@@ -146,8 +146,8 @@ TEST_CASE("frames: the spec's CSV and a VTK file that reads back - ghosts exclud
 
   // series.csv: the required columns, a row every 10 steps, times consistent with dt.
   const Table series = read_table(out / "series.csv");
-  for (const char* column : {"step", "time", "front", "height", "kinetic_energy", "solver_iterations",
-                             "solver_residual", "wall_seconds"}) {
+  for (const char* column :
+       {"step", "time", "front", "height", "kinetic_energy", "solver_iterations", "solver_residual", "wall_seconds"}) {
     CHECK_NOTHROW(series.column(column));
   }
   CHECK(series.rows.size() == 21);
@@ -196,8 +196,9 @@ TEST_CASE("output by simulated time: a frame at the first step at or after each 
   options.output_directory = out.string();
   // dt = 3e-4 s does not divide 0.01 s: frames fall at steps 34, 67, 100, 134, 167
   // (t = 0.0102, 0.0201, 0.03, 0.0402, 0.0501), plus step 0. Step counting is off (1e6).
-  options.overrides = {"time.time_step=3e-4", "output.frame_every_steps=1000000", "output.frame_interval=0.01",
-                       "output.series_every_steps=1000000", "output.series_interval=0.002", "time.end_time=0.05"};
+  options.overrides = {"time.time_step=3e-4",          "output.frame_every_steps=1000000",
+                       "output.frame_interval=0.01",   "output.series_every_steps=1000000",
+                       "output.series_interval=0.002", "time.end_time=0.05"};
   const RunResult result = run_simulation(options, registries().methods, registries().walls);
   REQUIRE(result.status == "completed");
   const auto index = nlohmann::json::parse(read_text(out / "output.vtk.series"));

@@ -1,12 +1,12 @@
 // The plugin interfaces, proved with plugins that live only in this file: a method and a
 // wall treatment registered into the test's own registries (no global registry exists).
-#include <catch2/catch.hpp>
 #include <omp.h>
+#include <catch2/catch.hpp>
 
 #include <set>
 
-#include "core/run/driver.hpp"
 #include "core/io/geometry.hpp"
+#include "core/run/driver.hpp"
 #include "support.hpp"
 
 using namespace mps_lab;
@@ -72,7 +72,8 @@ TEST_CASE("a method registered outside the core runs a scene through the registr
   MethodRegistry methods = builtin_methods();
   methods.add(free_streaming_info(false));
   const WallTreatmentRegistry& walls = registries().walls;
-  const Scene scene = load_scene(scene_path("dambreak.json"), {"methods.free_streaming.velocity=[0.2,0.0]"}, methods, walls);
+  const Scene scene =
+      load_scene(scene_path("dambreak.json"), {"methods.free_streaming.velocity=[0.2,0.0]"}, methods, walls);
   Simulation simulation(scene, *methods.find("free_streaming"));
   const Vec2 before = simulation.particles().position[0];
   simulation.run_to(0.1);
@@ -94,8 +95,10 @@ TEST_CASE("a declared but unread parameter is a start-up error", "[plugins]") {
 
 TEST_CASE("a wall treatment registered outside the core acts at its hook", "[plugins]") {
   WallTreatmentRegistry walls = builtin_wall_treatments();
-  WallTreatmentInfo sticky_bed{"sticky_bed", "test-only: stops fluid below a height",
-                               {number_parameter("height", 0.1, "m", "particles below stop").above(0.0)}, 50,
+  WallTreatmentInfo sticky_bed{"sticky_bed",
+                               "test-only: stops fluid below a height",
+                               {number_parameter("height", 0.1, "m", "particles below stop").above(0.0)},
+                               50,
                                [](const WallTreatmentSetup& setup) { return std::make_unique<StickyBed>(setup); }};
   sticky_bed.hooks = {WallHook::AfterCorrection};  // every built-in method calls it
   walls.add(std::move(sticky_bed));
@@ -181,8 +184,9 @@ TEST_CASE("a hook the method does not declare cannot run a treatment", "[plugins
   // one is refused when the set is built, and a call of an undeclared hook is refused.
   const Scene scene = load("dambreak.json");
   const auto& mps_choices = scene.method_config("mps").wall_treatments;  // cfl clamp: after_explicit_velocity
-  CHECK_THROWS_WITH(WallTreatmentSet(mps_choices, scene, nullptr, {WallHook::AfterNeighbourSearch, WallHook::AfterCorrection}),
-                    Catch::Contains("acts at after_explicit_velocity, which the method does not call"));
+  CHECK_THROWS_WITH(
+      WallTreatmentSet(mps_choices, scene, nullptr, {WallHook::AfterNeighbourSearch, WallHook::AfterCorrection}),
+      Catch::Contains("acts at after_explicit_velocity, which the method does not call"));
   WallTreatmentSet set({}, scene, nullptr, {WallHook::AfterCorrection});
   ParticleSet particles = build_particles(scene);
   WallContext context{particles, nullptr, 1e-3, scene};

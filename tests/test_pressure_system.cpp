@@ -13,9 +13,8 @@ using namespace mps_lab::testing;
 TEST_CASE("ungrounded groups: connected components with no grounded row", "[pressure]") {
   // Rows 0-1-2 connected (row 2 grounded), rows 3-4 connected (none grounded), row 5 alone.
   Eigen::SparseMatrix<double, Eigen::RowMajor> a(6, 6);
-  std::vector<Eigen::Triplet<double>> entries = {{0, 0, 2}, {0, 1, -1}, {1, 0, -1}, {1, 1, 2}, {1, 2, -1},
-                                                 {2, 1, -1}, {2, 2, 2},  {3, 3, 1},  {3, 4, -1}, {4, 3, -1},
-                                                 {4, 4, 1},  {5, 5, 1}};
+  std::vector<Eigen::Triplet<double>> entries = {{0, 0, 2}, {0, 1, -1}, {1, 0, -1}, {1, 1, 2},  {1, 2, -1}, {2, 1, -1},
+                                                 {2, 2, 2}, {3, 3, 1},  {3, 4, -1}, {4, 3, -1}, {4, 4, 1},  {5, 5, 1}};
   a.setFromTriplets(entries.begin(), entries.end());
   const auto groups = ungrounded_groups(a, {0, 0, 1, 0, 0, 0});
   REQUIRE(groups.size() == 2);

@@ -5,9 +5,9 @@
 #include <fstream>
 #include <thread>
 
-#include "lab/benchmark.hpp"
 #include "core/run/driver.hpp"
 #include "core/run/profile.hpp"
+#include "lab/benchmark.hpp"
 #include "support.hpp"
 
 namespace mps_lab::testing {
@@ -96,7 +96,8 @@ TEST_CASE("run.json has the profile and the memory of every run", "[profile]") {
   const auto& profile = run.at("profile");
   CHECK(profile.at("steps").get<long long>() == 20);
   CHECK(profile.at("fluid_particles").get<std::size_t>() == 171);
-  for (const char* phase : {"setup", "neighbour_search", "operators", "pressure_solve", "output", "diagnostics", "other"}) {
+  for (const char* phase :
+       {"setup", "neighbour_search", "operators", "pressure_solve", "output", "diagnostics", "other"}) {
     CHECK(profile.at("phases").contains(phase));
   }
   CHECK(profile.at("phases").at("setup").at("calls").get<long long>() == 1);
@@ -138,16 +139,17 @@ TEST_CASE("the benchmark harness measures kernels and whole steps of each method
 
 TEST_CASE("mps_lab run --profile prints the table - mps_lab bench prints and writes its measurements", "[cli]") {
   const auto dir = fresh_directory("profile_cli");
-  const auto run = run_mps_lab("run " + scene_path("dambreak.json") + " --end-time 0.005 -q --profile --out " +
-                                   (dir / "run").string(),
-                               "profile_run");
+  const auto run = run_mps_lab(
+      "run " + scene_path("dambreak.json") + " --end-time 0.005 -q --profile --out " + (dir / "run").string(),
+      "profile_run");
   CHECK(run.exit_code == 0);
   CHECK_THAT(run.stdout_text, Catch::StartsWith("profile: 10 steps, 171 fluid particles") &&
                                   Catch::Contains("pressure_solve") && Catch::Contains("neighbour_search"));
   const auto json = dir / "bench.json";
-  const auto bench = run_mps_lab("bench " + scene_path("dambreak.json") +
-                                     " --methods mps --spacings 0.05 --steps 2 --warmup-steps 0 -q --json " + json.string(),
-                                 "profile_bench");
+  const auto bench =
+      run_mps_lab("bench " + scene_path("dambreak.json") +
+                      " --methods mps --spacings 0.05 --steps 2 --warmup-steps 0 -q --json " + json.string(),
+                  "profile_bench");
   CHECK(bench.exit_code == 0);
   CHECK_THAT(bench.stdout_text, Catch::StartsWith("OMP_PROC_BIND=true") && Catch::Contains("mps "));
   const auto results = nlohmann::json::parse(read_text(json));

@@ -62,9 +62,8 @@ TEST_CASE("Projection solver: one preconditioner vocabulary and auto", "[unit][s
 }
 
 TEST_CASE("Projection solver: an old preconditioner name is an error naming the key", "[unit][solver]") {
-  const std::vector<std::pair<std::string, std::string>> old_names = {{"mps", "incomplete_cholesky"},
-                                                                      {"isph", "incomplete_lu"},
-                                                                      {"isph", "diagonal"}};
+  const std::vector<std::pair<std::string, std::string>> old_names = {
+      {"mps", "incomplete_cholesky"}, {"isph", "incomplete_lu"}, {"isph", "diagonal"}};
   for (const auto& [method, name] : old_names) {
     if (registries().methods.find(method) == nullptr) continue;  // a subset build
     const std::string key = "methods." + method + ".preconditioner";
@@ -81,7 +80,8 @@ TEST_CASE("Projection solver: an old preconditioner name is an error naming the 
   }
   for (const char* method : {"mps", "isph"}) {
     if (registries().methods.find(method) == nullptr) continue;
-    CHECK_NOTHROW(load("dambreak.json", {std::string("methods.") + method + ".preconditioner=\"incomplete_factorisation\""}));
+    CHECK_NOTHROW(
+        load("dambreak.json", {std::string("methods.") + method + ".preconditioner=\"incomplete_factorisation\""}));
   }
 }
 

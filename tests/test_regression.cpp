@@ -92,8 +92,13 @@ void check_against_reference(const std::string& method) {
   const Snapshot now = run_reference_case(method);
   const std::string path = reference_path(method);
   if (std::getenv("MPS_LAB_WRITE_REFERENCE") != nullptr) {
-    const nlohmann::json out{{"scene", "scenes/dambreak.json"}, {"method", method}, {"end_time", kEndTime},
-                             {"steps", now.steps}, {"front", now.front}, {"x", now.x}, {"y", now.y},
+    const nlohmann::json out{{"scene", "scenes/dambreak.json"},
+                             {"method", method},
+                             {"end_time", kEndTime},
+                             {"steps", now.steps},
+                             {"front", now.front},
+                             {"x", now.x},
+                             {"y", now.y},
                              {"pressure", now.pressure}};
     std::ofstream(path) << out.dump(1) << '\n';
     WARN("wrote " << path);
@@ -109,8 +114,8 @@ void check_against_reference(const std::string& method) {
   const double position_error = std::max(max_difference(now.x, x), max_difference(now.y, y));
   const double pressure_error = max_difference(now.pressure, pressure);
   const double front_error = std::fabs(now.front - reference.at("front").get<double>());
-  INFO(method << ": max |dx| = " << position_error << " m, max |dp| = " << pressure_error << " Pa, |d front| = "
-              << front_error << " m");
+  INFO(method << ": max |dx| = " << position_error << " m, max |dp| = " << pressure_error
+              << " Pa, |d front| = " << front_error << " m");
   const Tolerances tolerance = tolerances(method);
   CHECK(position_error < tolerance.position);
   CHECK(pressure_error < tolerance.pressure);

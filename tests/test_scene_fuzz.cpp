@@ -50,7 +50,8 @@ void collect_nodes(const nlohmann::json& value, const nlohmann::json::json_point
     }
   } else if (value.is_array()) {
     for (std::size_t k = 0; k < value.size(); ++k) {
-      collect_nodes(value[k], pointer / k, key + "[" + std::to_string(k) + "]", set_key + "." + std::to_string(k), nodes);
+      collect_nodes(value[k], pointer / k, key + "[" + std::to_string(k) + "]", set_key + "." + std::to_string(k),
+                    nodes);
     }
   }
 }
@@ -97,7 +98,8 @@ std::string broken_invariant(const Scene& scene) {
     if (!(block.region.max.x() > block.region.min.x() && block.region.max.y() > block.region.min.y())) return "block";
   }
   if (!(scene.physics.density > 0.0 && std::isfinite(scene.physics.density))) return "density";
-  if (!(scene.physics.kinematic_viscosity >= 0.0 && std::isfinite(scene.physics.kinematic_viscosity))) return "viscosity";
+  if (!(scene.physics.kinematic_viscosity >= 0.0 && std::isfinite(scene.physics.kinematic_viscosity)))
+    return "viscosity";
   if (!finite(scene.physics.gravity)) return "gravity";
   const double dt = scene.time.time_step;
   if (!(dt > 0.0 && std::isfinite(dt))) return "time_step";
@@ -158,7 +160,8 @@ class FuzzCounter {
       const std::string message = error.what();
       if (message.find('\n') != std::string::npos) return "message of several lines: " + message;
       const bool from_set = message.rfind("--set: ", 0) == 0;
-      if (!from_set && message.rfind(std::string(kSource) + ": ", 0) != 0) return "message without the source: " + message;
+      if (!from_set && message.rfind(std::string(kSource) + ": ", 0) != 0)
+        return "message without the source: " + message;
       if (key.empty() || from_set) return "";
       const std::string named = message_key(message, kSource);
       const std::string expected = reported_key(key);
@@ -226,7 +229,8 @@ TEST_CASE("fuzz: every key and every array element deleted in turn", "[scene][in
   report(counter, "deletion");
 }
 
-TEST_CASE("fuzz: every value replaced by wrong types - huge - negative and fractional numbers", "[scene][input][fuzz]") {
+TEST_CASE("fuzz: every value replaced by wrong types - huge - negative and fractional numbers",
+          "[scene][input][fuzz]") {
   const std::vector<nlohmann::json> replacements = {
       nullptr, true, "text", nlohmann::json::array(), nlohmann::json::object(), 0, -1, 1e308, -1e308, 2.5, "nan"};
   FuzzCounter counter;
@@ -249,8 +253,8 @@ TEST_CASE("fuzz: every value replaced by wrong types - huge - negative and fract
 TEST_CASE("fuzz: --set overrides with texts JSON cannot hold", "[scene][input][fuzz]") {
   // "nan" and "inf" reach the scene as strings; 1e309 overflows a double; a key given twice,
   // a value nested 40 deep, bytes that are not UTF-8, an empty value.
-  const std::vector<std::string> texts = {"nan", "inf", "1e309", R"({"a": 1, "a": 2})",
-                                          std::string(40, '[') + std::string(40, ']'), "\xff\xfe", ""};
+  const std::vector<std::string> texts = {
+      "nan", "inf", "1e309", R"({"a": 1, "a": 2})", std::string(40, '[') + std::string(40, ']'), "\xff\xfe", ""};
   FuzzCounter counter;
   for (const auto& text : base_scenes()) {
     std::vector<Node> nodes;
@@ -350,7 +354,8 @@ TEST_CASE("bad scenes through the binary: exit code 2 - one line on stderr - no 
   const auto out = dir / "never_created";
   for (std::size_t k = 0; k < cases.size(); ++k) {
     INFO(cases[k].arguments);
-    const auto result = run_mps_lab("run " + cases[k].arguments + " --out " + out.string(), "fuzz_" + std::to_string(k));
+    const auto result =
+        run_mps_lab("run " + cases[k].arguments + " --out " + out.string(), "fuzz_" + std::to_string(k));
     CHECK(result.exit_code == 2);
     CHECK(std::count(result.stderr_text.begin(), result.stderr_text.end(), '\n') == 1);
     CHECK_THAT(result.stderr_text, Catch::StartsWith("mps_lab: error: ") && Catch::Contains(cases[k].expected));

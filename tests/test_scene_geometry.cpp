@@ -93,10 +93,12 @@ TEST_CASE("scene validation names the file and the key", "[scene][input]") {
              Catch::Contains("methods.mps.wall_treatments.wall_repulsion.strength: unknown key"));
   CHECK_THAT(error_of({"methods.sph={}"}), Catch::Contains("methods.sph: unknown method"));
   CHECK_THAT(error_of({"method=\"sph\""}), Catch::Contains("method: unknown method 'sph'"));
-  CHECK_THAT(error_of({"fluid_blocks.0.max=[1.5,0.5]"}),
-             Catch::Contains("fluid_blocks[0].max: got [1.5,0.5], expected a point inside the domain [0.0,0.0] to [1.0,0.6]"));
-  CHECK_THAT(error_of({"domain.max=[0,0.6]"}),
-             Catch::Contains("domain.max: got [0.0,0.6], expected a point above and to the right of domain.min [0.0,0.0]"));
+  CHECK_THAT(
+      error_of({"fluid_blocks.0.max=[1.5,0.5]"}),
+      Catch::Contains("fluid_blocks[0].max: got [1.5,0.5], expected a point inside the domain [0.0,0.0] to [1.0,0.6]"));
+  CHECK_THAT(
+      error_of({"domain.max=[0,0.6]"}),
+      Catch::Contains("domain.max: got [0.0,0.6], expected a point above and to the right of domain.min [0.0,0.0]"));
   CHECK_THAT(error_of({"walls.sides=[\"bottom\",\"front\"]"}), Catch::Contains("walls.sides"));
   CHECK_THAT(error_of({"output.frame_every_steps=0"}), Catch::Contains("output.frame_every_steps: got 0"));
   CHECK_THAT(error_of({"physics.gravity=[0]"}), Catch::Contains("physics.gravity: got [0], expected an array of two"));
@@ -105,7 +107,8 @@ TEST_CASE("scene validation names the file and the key", "[scene][input]") {
 }
 
 TEST_CASE("overrides set nested keys and defaults come from the spec", "[scene]") {
-  const Scene scene = load("dambreak.json", {"time.end_time=0.5", "methods.mps.relaxation=0.3", "output.directory=runs/x"});
+  const Scene scene =
+      load("dambreak.json", {"time.end_time=0.5", "methods.mps.relaxation=0.3", "output.directory=runs/x"});
   CHECK(scene.time.end_time == 0.5);
   CHECK(scene.output.directory == "runs/x");
   CHECK(scene.method_config("mps").parameters.number("relaxation") == 0.3);
@@ -138,6 +141,8 @@ TEST_CASE("overrides set nested keys and defaults come from the spec", "[scene]"
     if (choice.info->name == "particle_collision") CHECK_FALSE(choice.enabled);
   }
   // Missing required keys.
-  CHECK_THROWS_WITH(parse(R"({"fluid_blocks": [{"min": [0, 0], "max": [0.25, 0.5]}]})"), Catch::Contains("domain: missing"));
-  CHECK_THROWS_WITH(parse(R"({"domain": {"min": [0, 0]}, "fluid_blocks": []})"), Catch::Contains("domain.max: missing"));
+  CHECK_THROWS_WITH(parse(R"({"fluid_blocks": [{"min": [0, 0], "max": [0.25, 0.5]}]})"),
+                    Catch::Contains("domain: missing"));
+  CHECK_THROWS_WITH(parse(R"({"domain": {"min": [0, 0]}, "fluid_blocks": []})"),
+                    Catch::Contains("domain.max: missing"));
 }

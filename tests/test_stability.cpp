@@ -90,18 +90,18 @@ void check_clean(const EdgeRun& run) {
 // monitor stops the run as "diverged" with the reason, not a crash and not garbage.
 void time_step_extremes(const std::string& method) {
   // dt = 1e-4 s: C = 0.012, a fifth of the spec's step.
-  const EdgeRun below = run_edge(method, "dambreak.json",
-                                 {"time.time_step=1e-4", "time.end_time=0.5", "methods.dfsph.time_step_rule=fixed"},
-                                 "dt_below");
+  const EdgeRun below =
+      run_edge(method, "dambreak.json",
+               {"time.time_step=1e-4", "time.end_time=0.5", "methods.dfsph.time_step_rule=fixed"}, "dt_below");
   check_clean(below);
   CHECK(below.count("speed_limited") == 0);
   CHECK(below.result.simulated_time == Approx(0.5).epsilon(1e-9));
 
   // dt = 5e-2 s: C = 6, a particle would cross six spacings in one step. Measured: each
   // method stops within 2 steps (courant or speed_limited).
-  const EdgeRun beyond = run_edge(method, "dambreak.json",
-                                  {"time.time_step=5e-2", "time.end_time=0.5", "methods.dfsph.time_step_rule=fixed"},
-                                  "dt_beyond");
+  const EdgeRun beyond =
+      run_edge(method, "dambreak.json",
+               {"time.time_step=5e-2", "time.end_time=0.5", "methods.dfsph.time_step_rule=fixed"}, "dt_beyond");
   CHECK(beyond.result.status == "diverged");
   CHECK_THAT(beyond.result.message, Catch::StartsWith("diverged at t = ") && Catch::Contains("because"));
   CHECK(beyond.result.simulated_time < 0.5);
@@ -126,12 +126,11 @@ void coarse_resolution(const std::string& method) {
 // time step scaled with l0 (C = 0.061, as the spec's). Energy is conserved over so short a
 // time: |E - E0| / E0 measured 2e-4 (mps, 0.02 s), 1e-5 (isph); bound 5e-3.
 void fine_resolution(const std::string& method) {
-  const EdgeRun run =
-      run_edge(method, "dambreak.json",
-               {"particle_spacing=0.0025", "time.time_step=5e-5", "time.end_time=0.005", "methods.dfsph.max_time_step=5e-4",
-                "output.formats=[\"csv\"]", "output.frame_every_steps=1000", "output.frame_interval=0",
-                "output.series_interval=0"},
-               "fine");
+  const EdgeRun run = run_edge(method, "dambreak.json",
+                               {"particle_spacing=0.0025", "time.time_step=5e-5", "time.end_time=0.005",
+                                "methods.dfsph.max_time_step=5e-4", "output.formats=[\"csv\"]",
+                                "output.frame_every_steps=1000", "output.frame_interval=0", "output.series_interval=0"},
+                               "fine");
   check_clean(run);
   CHECK(run.result.summary["particles"]["fluid"] == 19701);
   const double energy = run.result.summary["stability"]["final_energy"].get<double>();
@@ -170,8 +169,7 @@ Regression fit_line(const std::vector<double>& x, const std::vector<double>& y) 
 
 EdgeRun long_run(const std::string& method) {
   return run_edge(method, "dambreak.json",
-                  {"time.end_time=10", "output.frame_every_steps=1000000", "output.frame_interval=0.1"},
-                  "long");
+                  {"time.end_time=10", "output.frame_every_steps=1000000", "output.frame_interval=0.1"}, "long");
 }
 
 // dp/dy of the fluid in the middle of the tank (0.3 < x < 0.7 m) over the frames of the last
@@ -183,7 +181,8 @@ Regression settled_pressure_gradient(const EdgeRun& run) {
     if (file["time"].get<double>() < 9.0 - 1e-9) continue;
     const std::string stem = file["name"].get<std::string>().substr(0, std::string("output_000000").size());
     const Table frame = read_table(run.directory / (stem + ".csv"));
-    const auto type = frame.column("type"), x = frame.column("x"), fy = frame.column("y"), fp = frame.column("pressure");
+    const auto type = frame.column("type"), x = frame.column("x"), fy = frame.column("y"),
+               fp = frame.column("pressure");
     for (std::size_t k = 0; k < type.size(); ++k) {
       if (type[k] == 0 && x[k] > 0.3 && x[k] < 0.7) {
         y.push_back(fy[k]);
@@ -223,7 +222,8 @@ void long_run_hydrostatic(const EdgeRun& run) {
 // ---------------------------------------------------------------------------------------
 // Physics at the edges.
 void viscosity_extremes(const std::string& method) {
-  const EdgeRun inviscid = run_edge(method, "dambreak.json", {"physics.kinematic_viscosity=0", "time.end_time=1"}, "inviscid");
+  const EdgeRun inviscid =
+      run_edge(method, "dambreak.json", {"physics.kinematic_viscosity=0", "time.end_time=1"}, "inviscid");
   check_clean(inviscid);
   const EdgeRun viscous =
       run_edge(method, "dambreak.json", {"physics.kinematic_viscosity=1e-2", "time.end_time=1"}, "viscous");
@@ -252,8 +252,8 @@ double zero_gravity_displacement(const std::string& method) {
 // A tall column, aspect 4.3 (a = 0.225 m, H = 0.975 m), in a tank 2 m high so that the
 // run-up on the far wall stays inside (with a 1.2 m tank, 5 % of the water splashed over).
 void tall_column(const std::string& method) {
-  const EdgeRun run =
-      run_edge(method, "dambreak.json", {"fluid_blocks.0.max=[0.25,1.0]", "domain.max=[1.0,2.0]", "time.end_time=1"}, "tall");
+  const EdgeRun run = run_edge(method, "dambreak.json",
+                               {"fluid_blocks.0.max=[0.25,1.0]", "domain.max=[1.0,2.0]", "time.end_time=1"}, "tall");
   check_clean(run);
   CHECK(run.result.summary["particles"]["fluid"] == 9 * 39);
   CHECK(run.at("mechanical_energy", 1.0) < run.initial_energy());
@@ -308,8 +308,8 @@ void solver_limits(const std::string& method) {
   CHECK(capped.count("non_finite") == 0);
   // ... or ends it with status solver_failed when the scene says so.
   const EdgeRun stopped = run_edge(
-      method, "dambreak.json", {keys.cap + "=1", min_iterations, "time.end_time=0.05", "stability.on_solver_failure=stop"},
-      "capped_stop");
+      method, "dambreak.json",
+      {keys.cap + "=1", min_iterations, "time.end_time=0.05", "stability.on_solver_failure=stop"}, "capped_stop");
   CHECK(stopped.result.status == "solver_failed");
   CHECK_THAT(stopped.result.message, Catch::StartsWith("solver failed at t = ") && Catch::Contains("did not converge"));
   CHECK(stopped.result.steps == capped.result.summary["stability"]["first_event"]["solver"]["step"].get<long long>());
@@ -317,8 +317,8 @@ void solver_limits(const std::string& method) {
   // An unreachable tolerance (1e-20, below double precision): every solve runs to its cap
   // (50), is recorded, and the run completes with the solution at the precision the
   // arithmetic allows.
-  const EdgeRun unreachable =
-      run_edge(method, "dambreak.json", {keys.cap + "=50", keys.tolerance + "=1e-20", "time.end_time=0.05"}, "unreachable");
+  const EdgeRun unreachable = run_edge(
+      method, "dambreak.json", {keys.cap + "=50", keys.tolerance + "=1e-20", "time.end_time=0.05"}, "unreachable");
   CHECK(unreachable.result.status == "completed");
   CHECK(unreachable.count("solver") == unreachable.result.steps);
   CHECK(unreachable.count("courant") + unreachable.count("energy_growth") + unreachable.count("penetration") == 0);
@@ -328,10 +328,10 @@ void solver_limits(const std::string& method) {
 // at 1e13 m/s within 0.3 s, while the run still said "completed". The monitor must stop a
 // run like that; a run that completes must be at rest.
 EdgeRun closed_tank(const std::string& method) {
-  const EdgeRun run = run_edge(method, "hydrostatic.json",
-                               {"walls.sides=[\"bottom\",\"left\",\"right\",\"top\"]", "fluid_blocks.0.max=[0.5,0.6]",
-                                "time.end_time=1"},
-                               "closed_tank");
+  const EdgeRun run = run_edge(
+      method, "hydrostatic.json",
+      {"walls.sides=[\"bottom\",\"left\",\"right\",\"top\"]", "fluid_blocks.0.max=[0.5,0.6]", "time.end_time=1"},
+      "closed_tank");
   INFO(run.result.status << ": " << run.result.message);
   if (run.result.status == "completed") {
     CHECK(run.mean_after("kinetic_energy", 0.5) < 0.01 * run.initial_energy());
@@ -344,26 +344,25 @@ EdgeRun closed_tank(const std::string& method) {
 }  // namespace
 
 // One group per method, so that CTest runs them side by side and reports them apart.
-#define MPS_LAB_STABILITY_CASES(METHOD)                                                                  \
-  TEST_CASE(METHOD ": time step far below and far beyond the CFL limit", "[stability][" METHOD "]") {   \
-    time_step_extremes(METHOD);                                                                          \
-  }                                                                                                      \
-  TEST_CASE(METHOD ": very coarse resolution (l0 = 0.05 m) to T = 2 s", "[stability][" METHOD "]") {    \
-    coarse_resolution(METHOD);                                                                           \
-  }                                                                                                      \
-  TEST_CASE(METHOD ": fine resolution (l0 = 0.0025 m) for 100 steps", "[stability][" METHOD "]") {          \
-    fine_resolution(METHOD);                                                                             \
-  }                                                                                                      \
-  TEST_CASE(METHOD ": zero and high viscosity (nu = 0 and 1e-2)", "[stability][" METHOD "]") {             \
-    viscosity_extremes(METHOD);                                                                          \
-  }                                                                                                      \
-  TEST_CASE(METHOD ": a tall column, aspect 4.3", "[stability][" METHOD "]") { tall_column(METHOD); }   \
-  TEST_CASE(METHOD ": a single-layer sheet of water stays on the bed", "[stability][" METHOD "]") {      \
-    single_layer_sheet(METHOD);                                                                          \
-  }                                                                                                      \
-  TEST_CASE(METHOD ": solver at its iteration cap and with an unreachable tolerance",                    \
-            "[stability][" METHOD "]") {                                                                 \
-    solver_limits(METHOD);                                                                               \
+#define MPS_LAB_STABILITY_CASES(METHOD)                                                                            \
+  TEST_CASE(METHOD ": time step far below and far beyond the CFL limit", "[stability][" METHOD "]") {              \
+    time_step_extremes(METHOD);                                                                                    \
+  }                                                                                                                \
+  TEST_CASE(METHOD ": very coarse resolution (l0 = 0.05 m) to T = 2 s", "[stability][" METHOD "]") {               \
+    coarse_resolution(METHOD);                                                                                     \
+  }                                                                                                                \
+  TEST_CASE(METHOD ": fine resolution (l0 = 0.0025 m) for 100 steps", "[stability][" METHOD "]") {                 \
+    fine_resolution(METHOD);                                                                                       \
+  }                                                                                                                \
+  TEST_CASE(METHOD ": zero and high viscosity (nu = 0 and 1e-2)", "[stability][" METHOD "]") {                     \
+    viscosity_extremes(METHOD);                                                                                    \
+  }                                                                                                                \
+  TEST_CASE(METHOD ": a tall column, aspect 4.3", "[stability][" METHOD "]") { tall_column(METHOD); }              \
+  TEST_CASE(METHOD ": a single-layer sheet of water stays on the bed", "[stability][" METHOD "]") {                \
+    single_layer_sheet(METHOD);                                                                                    \
+  }                                                                                                                \
+  TEST_CASE(METHOD ": solver at its iteration cap and with an unreachable tolerance", "[stability][" METHOD "]") { \
+    solver_limits(METHOD);                                                                                         \
   }
 
 #ifdef MPS_LAB_WITH_MPS

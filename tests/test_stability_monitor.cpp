@@ -145,7 +145,8 @@ TEST_CASE("solver failures: recorded - and a stop only when the scene asks", "[m
   } catch (const RunStopped& stopped) {
     CHECK(stopped.status() == "solver_failed");
     CHECK(std::string(stopped.what()) ==
-          "solver failed at t = 0.0005 s (step 1), because the pressure solver did not converge: " + failed.solver_note);
+          "solver failed at t = 0.0005 s (step 1), because the pressure solver did not converge: " +
+              failed.solver_note);
   }
 }
 

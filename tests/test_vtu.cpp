@@ -10,9 +10,9 @@
 #include <regex>
 #include <set>
 
-#include "core/run/driver.hpp"
 #include "core/base/error.hpp"
 #include "core/io/output.hpp"
+#include "core/run/driver.hpp"
 #include "support.hpp"
 
 using namespace mps_lab;
@@ -146,7 +146,8 @@ std::string output_error_of(const std::function<void()>& action) {
 
 std::map<std::string, std::string> files_of(const fs::path& folder) {
   std::map<std::string, std::string> files;
-  for (const auto& entry : fs::directory_iterator(folder)) files[entry.path().filename().string()] = read_text(entry.path());
+  for (const auto& entry : fs::directory_iterator(folder))
+    files[entry.path().filename().string()] = read_text(entry.path());
   return files;
 }
 
@@ -329,7 +330,8 @@ TEST_CASE("a background write that fails is a one-line OutputError naming the fi
     output.prepare();
     fs::remove_all(dir / "run");
     output.write_frame(particles, kFields, 0.0, 0, "t");  // handed over; fails in the background
-    const std::string expected = (dir / "run" / "output_000000.vtu").string() + ": cannot write (No such file or directory)";
+    const std::string expected =
+        (dir / "run" / "output_000000.vtu").string() + ": cannot write (No such file or directory)";
     // The next frame waits for the first and reports its failure.
     CHECK(output_error_of([&] { output.write_frame(particles, kFields, 0.1, 1, "t"); }) == expected);
     // It stays reported: every later call, flush and the end of the run, says the same.
@@ -338,7 +340,7 @@ TEST_CASE("a background write that fails is a one-line OutputError naming the fi
     CHECK(output_error_of([&] { output.flush(); }) == expected);
     CHECK(output_error_of([&] { output.write_summary({}); }) == expected);
     CHECK(output.frames_written() == 1);  // the second frame was refused
-  }  // the destructor waits and does not throw
+  }                                       // the destructor waits and does not throw
   {
     RunOutput output(dir / "run2", FrameFormats{true, true, false}, {"step"});
     output.prepare();
@@ -362,8 +364,8 @@ TEST_CASE("a background write that fails is a one-line OutputError naming the fi
     output.prepare();
     output.write_frame(particles, kFields, 0.0, 0, "t");
   }
-  for (const char* name : {"output_000000.csv", "output_000000.vtk", "output_000000.vtu", "output.pvd",
-                           "output.vtk.series"}) {
+  for (const char* name :
+       {"output_000000.csv", "output_000000.vtk", "output_000000.vtu", "output.pvd", "output.vtk.series"}) {
     CHECK(fs::exists(dir / "run4" / name));
   }
 }

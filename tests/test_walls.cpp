@@ -9,8 +9,8 @@
 #include <string>
 #include <vector>
 
-#include "core/run/driver.hpp"
 #include "core/io/geometry.hpp"
+#include "core/run/driver.hpp"
 #include "core/walls/wall_geometry.hpp"
 #include "support.hpp"
 
@@ -38,7 +38,7 @@ TEST_CASE("wall geometry: the surfaces lie half a spacing from the first wall la
   const WallGeometry geometry(scene);
   REQUIRE(geometry.segments().size() == 3);  // bottom, left, right; the top is open
   CHECK(geometry.surface_offset() == Approx(0.0125));
-  CHECK(geometry.distance(Vec2(0.025, 0.3)) == Approx(0.0125));  // first fluid column
+  CHECK(geometry.distance(Vec2(0.025, 0.3)) == Approx(0.0125));    // first fluid column
   CHECK(geometry.depth_inside(Vec2(0.0, 0.3)) == Approx(0.0125));  // first wall layer
   CHECK(geometry.depth_inside(Vec2(0.5, 0.5)) == 0.0);
   CHECK_FALSE(geometry.inside_solid(Vec2(0.5, 0.7)));  // above the open top
@@ -83,8 +83,9 @@ TEST_CASE("a run has exactly one boundary model - and it must suit the method", 
   CHECK(chosen->info->name == "mirror_particles");
   CHECK_THROWS_WITH(
       load("dambreak.json", {"methods.mps.wall_treatments={\"mirror_particles\":{},\"spec_wall_particles\":{}}"}),
-      Catch::Contains("methods.mps.wall_treatments: got 2 boundary models (mirror_particles, spec_wall_particles), "
-                      "expected exactly one of: distance_function, dummy_layers, mirror_particles, spec_wall_particles"));
+      Catch::Contains(
+          "methods.mps.wall_treatments: got 2 boundary models (mirror_particles, spec_wall_particles), "
+          "expected exactly one of: distance_function, dummy_layers, mirror_particles, spec_wall_particles"));
   CHECK_THROWS_WITH(load("dambreak.json", {"methods.mps.wall_treatments.spec_wall_particles.enabled=false"}),
                     Catch::Contains("got 0 boundary models"));
   CHECK_THROWS_WITH(load("dambreak.json", {with_boundary("mps", "akinci_boundary")}),
@@ -207,14 +208,15 @@ TEST_CASE("a boundary model registered from tests/ runs a scene with the mps met
     worst_pressure = std::max(worst_pressure, std::fabs(mine.particles().pressure[i] - dummy.particles().pressure[i]));
     worst_position = std::max(worst_position, (mine.particles().position[i] - dummy.particles().position[i]).norm());
   }
-  CHECK(worst_pressure < 1e-3);   // Pa, of ~2700 Pa at the bed
-  CHECK(worst_position < 1e-9);   // m
+  CHECK(worst_pressure < 1e-3);  // Pa, of ~2700 Pa at the bed
+  CHECK(worst_position < 1e-9);  // m
   CHECK(mine.steps() == 100);
   // Built-in registries do not know it.
   CHECK(builtin_wall_treatments().find("lattice_wall_points") == nullptr);
 }
 
-TEST_CASE("MPS with each boundary model of samples: still water keeps rho g H at the bed", "[mps][walls][hydrostatic]") {
+TEST_CASE("MPS with each boundary model of samples: still water keeps rho g H at the bed",
+          "[mps][walls][hydrostatic]") {
   // Mean over t in [0.5, 1] s (every 50 steps) of the bed-row pressure over rho g (H - y),
   // H the initial water surface (top row + l0/2). Measured (docs/walls.md): spec walls 1.05,
   // dummy_layers 1.13, mirror_particles 0.98, distance_function 1.12; still water in MPS is

@@ -19,7 +19,6 @@ class OutputError : public std::runtime_error {
 };
 
 // "<source>: <key>: <message>"
-[[noreturn]] void throw_input_error(const std::string& source, const std::string& key,
-                                    const std::string& message);
+[[noreturn]] void throw_input_error(const std::string& source, const std::string& key, const std::string& message);
 
 }  // namespace mps_lab

@@ -91,7 +91,8 @@ void append_description(std::string& out, const nlohmann::json& value, int depth
     for (auto item = value.begin(); item != value.end() && out.size() <= kLongestDescription; ++item) {
       if (!first) out += ',';
       first = false;
-      if (!array) out += nlohmann::json(item.key()).dump(-1, ' ', false, nlohmann::json::error_handler_t::replace) + ':';
+      if (!array)
+        out += nlohmann::json(item.key()).dump(-1, ' ', false, nlohmann::json::error_handler_t::replace) + ':';
       append_description(out, *item, depth + 1);
     }
     out += array ? ']' : '}';
@@ -127,27 +128,41 @@ std::string describe_json(const nlohmann::json& value) {
 
 std::string json_type_name(const nlohmann::json& value) {
   switch (value.type()) {
-    case nlohmann::json::value_t::null: return "null";
-    case nlohmann::json::value_t::object: return "an object";
-    case nlohmann::json::value_t::array: return "an array";
-    case nlohmann::json::value_t::string: return "a string";
-    case nlohmann::json::value_t::boolean: return "a boolean";
+    case nlohmann::json::value_t::null:
+      return "null";
+    case nlohmann::json::value_t::object:
+      return "an object";
+    case nlohmann::json::value_t::array:
+      return "an array";
+    case nlohmann::json::value_t::string:
+      return "a string";
+    case nlohmann::json::value_t::boolean:
+      return "a boolean";
     case nlohmann::json::value_t::number_integer:
-    case nlohmann::json::value_t::number_unsigned: return "an integer";
-    case nlohmann::json::value_t::number_float: return "a number";
-    default: return "an unsupported value";
+    case nlohmann::json::value_t::number_unsigned:
+      return "an integer";
+    case nlohmann::json::value_t::number_float:
+      return "a number";
+    default:
+      return "an unsupported value";
   }
 }
 
 std::string ParameterSpec::range_text() const {
   std::string kind_text;
   switch (kind) {
-    case ParameterKind::Number: kind_text = "a number"; break;
-    case ParameterKind::Integer: kind_text = "an integer"; break;
-    case ParameterKind::Boolean: return "true or false";
+    case ParameterKind::Number:
+      kind_text = "a number";
+      break;
+    case ParameterKind::Integer:
+      kind_text = "an integer";
+      break;
+    case ParameterKind::Boolean:
+      return "true or false";
     case ParameterKind::String:
       return choices.empty() ? "a string" : "one of: " + join(choices);
-    case ParameterKind::Vector2: return "an array of two finite numbers [x, y]";
+    case ParameterKind::Vector2:
+      return "an array of two finite numbers [x, y]";
     case ParameterKind::StringList:
       return choices.empty() ? "an array of strings" : "an array of strings from: " + join(choices);
   }
@@ -162,8 +177,7 @@ std::string ParameterSpec::range_text() const {
   return kind_text;
 }
 
-ParameterSpec number_parameter(std::string name, double default_value, std::string unit,
-                               std::string description) {
+ParameterSpec number_parameter(std::string name, double default_value, std::string unit, std::string description) {
   ParameterSpec spec;
   spec.name = std::move(name);
   spec.kind = ParameterKind::Number;
@@ -200,8 +214,7 @@ ParameterSpec string_parameter(std::string name, std::string default_value, std:
   return spec;
 }
 
-ParameterSpec vector2_parameter(std::string name, Vec2 default_value, std::string unit,
-                                std::string description) {
+ParameterSpec vector2_parameter(std::string name, Vec2 default_value, std::string unit, std::string description) {
   ParameterSpec spec;
   spec.name = std::move(name);
   spec.kind = ParameterKind::Vector2;
@@ -211,8 +224,7 @@ ParameterSpec vector2_parameter(std::string name, Vec2 default_value, std::strin
   return spec;
 }
 
-ParameterSpec string_list_parameter(std::string name, std::vector<std::string> default_value,
-                                    std::string description) {
+ParameterSpec string_list_parameter(std::string name, std::vector<std::string> default_value, std::string description) {
   ParameterSpec spec;
   spec.name = std::move(name);
   spec.kind = ParameterKind::StringList;
@@ -273,8 +285,8 @@ void check_all_read(const ParameterValues& values, const std::string& plugin) {
 
 namespace {
 
-nlohmann::json check_value(const ParameterSpec& spec, const nlohmann::json& value,
-                           const std::string& source, const std::string& key) {
+nlohmann::json check_value(const ParameterSpec& spec, const nlohmann::json& value, const std::string& source,
+                           const std::string& key) {
   const std::string expected = "expected " + spec.range_text();
   switch (spec.kind) {
     case ParameterKind::Boolean:
@@ -337,9 +349,7 @@ ParameterValues resolve_parameters(const std::vector<ParameterSpec>& specs, cons
   if (!block.is_null() && !block.is_object()) {
     throw_input_error(source, block_path, "got " + describe_json(block) + ", expected an object");
   }
-  const auto key_path = [&](const std::string& name) {
-    return block_path.empty() ? name : block_path + "." + name;
-  };
+  const auto key_path = [&](const std::string& name) { return block_path.empty() ? name : block_path + "." + name; };
   if (block.is_object()) {
     for (const auto& [key, value] : block.items()) {
       if (reserved_keys.count(key) != 0) continue;

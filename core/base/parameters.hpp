@@ -32,24 +32,44 @@ struct ParameterSpec {
   bool required = false;             // no default: the scene must give it
 
   // Builder helpers, so that declarations read as one line each.
-  ParameterSpec& at_least(double value) { minimum = value; minimum_exclusive = false; return *this; }
-  ParameterSpec& above(double value) { minimum = value; minimum_exclusive = true; return *this; }
-  ParameterSpec& at_most(double value) { maximum = value; maximum_exclusive = false; return *this; }
-  ParameterSpec& below(double value) { maximum = value; maximum_exclusive = true; return *this; }
-  ParameterSpec& one_of(std::vector<std::string> values) { choices = std::move(values); return *this; }
-  ParameterSpec& mandatory() { required = true; return *this; }
+  ParameterSpec& at_least(double value) {
+    minimum = value;
+    minimum_exclusive = false;
+    return *this;
+  }
+  ParameterSpec& above(double value) {
+    minimum = value;
+    minimum_exclusive = true;
+    return *this;
+  }
+  ParameterSpec& at_most(double value) {
+    maximum = value;
+    maximum_exclusive = false;
+    return *this;
+  }
+  ParameterSpec& below(double value) {
+    maximum = value;
+    maximum_exclusive = true;
+    return *this;
+  }
+  ParameterSpec& one_of(std::vector<std::string> values) {
+    choices = std::move(values);
+    return *this;
+  }
+  ParameterSpec& mandatory() {
+    required = true;
+    return *this;
+  }
 
   std::string range_text() const;  // e.g. "a number > 0", "an integer in [1, 100000]"
 };
 
-ParameterSpec number_parameter(std::string name, double default_value, std::string unit,
-                               std::string description);
+ParameterSpec number_parameter(std::string name, double default_value, std::string unit, std::string description);
 ParameterSpec integer_parameter(std::string name, long long default_value, std::string description);
 ParameterSpec boolean_parameter(std::string name, bool default_value, std::string description);
 ParameterSpec string_parameter(std::string name, std::string default_value, std::string description);
 ParameterSpec vector2_parameter(std::string name, Vec2 default_value, std::string unit, std::string description);
-ParameterSpec string_list_parameter(std::string name, std::vector<std::string> default_value,
-                                    std::string description);
+ParameterSpec string_list_parameter(std::string name, std::vector<std::string> default_value, std::string description);
 
 class ParameterValues {
  public:
@@ -80,9 +100,8 @@ class ParameterValues {
 // Checks `block` (a JSON object, may be null = all defaults) against `specs`.
 // `source` is the scene file, `block_path` the dotted path of the block, both for messages.
 // Keys listed in `reserved_keys` are skipped (sub-blocks handled by the caller).
-ParameterValues resolve_parameters(const std::vector<ParameterSpec>& specs,
-                                   const nlohmann::json& block, const std::string& source,
-                                   const std::string& block_path,
+ParameterValues resolve_parameters(const std::vector<ParameterSpec>& specs, const nlohmann::json& block,
+                                   const std::string& source, const std::string& block_path,
                                    const std::set<std::string>& reserved_keys = {});
 
 // Throws std::logic_error naming the plugin and the parameters it declared but never read.

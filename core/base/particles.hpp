@@ -14,9 +14,9 @@
 namespace mps_lab {
 
 struct ParticleSet {
-  std::vector<Vec2> position;          // m
-  std::vector<Vec2> velocity;          // m/s
-  std::vector<double> pressure;        // Pa
+  std::vector<Vec2> position;    // m
+  std::vector<Vec2> velocity;    // m/s
+  std::vector<double> pressure;  // Pa
   std::vector<ParticleType> type;
   // 0 for fluid; for walls, 1 = the layer facing the fluid, 2, 3, ... = outer layers
   // (Chebyshev distance from the fluid region in units of l0, plus one).

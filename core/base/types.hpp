@@ -19,9 +19,12 @@ enum class ParticleType : std::uint8_t {
 
 constexpr std::string_view to_string(ParticleType type) {
   switch (type) {
-    case ParticleType::Fluid: return "fluid";
-    case ParticleType::Wall: return "wall";
-    case ParticleType::Ghost: return "ghost";
+    case ParticleType::Fluid:
+      return "fluid";
+    case ParticleType::Wall:
+      return "wall";
+    case ParticleType::Ghost:
+      return "ghost";
   }
   return "unknown";
 }

@@ -291,7 +291,8 @@ void read_particles(CheckpointReader& reader, ParticleSet& particles) {
   const std::vector<std::uint8_t> types = reader.read_u8s();
   check_size(types.size(), "types");
   for (std::size_t i = 0; i < n; ++i) {
-    if (types[i] > static_cast<std::uint8_t>(ParticleType::Ghost)) reader.fail("particle type " + std::to_string(types[i]));
+    if (types[i] > static_cast<std::uint8_t>(ParticleType::Ghost))
+      reader.fail("particle type " + std::to_string(types[i]));
     particles.type[i] = static_cast<ParticleType>(types[i]);
   }
   particles.wall_layer = reader.read_u8s();
@@ -304,7 +305,8 @@ void read_particles(CheckpointReader& reader, ParticleSet& particles) {
   for (std::size_t k = 0; k < fields; ++k) {
     const std::string name = reader.read_string();
     const auto found = particles.scalar_fields.find(name);
-    if (found == particles.scalar_fields.end()) reader.fail("particle field '" + name + "' is not declared by the method");
+    if (found == particles.scalar_fields.end())
+      reader.fail("particle field '" + name + "' is not declared by the method");
     found->second = reader.read_doubles();
     check_size(found->second.size(), ("field '" + name + "'").c_str());
   }
@@ -320,8 +322,9 @@ void read_neighbour_list(CheckpointReader& reader, NeighbourList& list) {
   list.offsets = reader.read_u32s();
   list.indices = reader.read_u32s();
   list.radius = reader.read_double();
-  const bool consistent = list.offsets.empty() ? list.indices.empty()
-                                              : list.offsets.front() == 0 && list.offsets.back() == list.indices.size();
+  const bool consistent = list.offsets.empty()
+                              ? list.indices.empty()
+                              : list.offsets.front() == 0 && list.offsets.back() == list.indices.size();
   if (!consistent) reader.fail("an inconsistent neighbour list");
 }
 
@@ -331,9 +334,9 @@ void write_wall_samples(CheckpointWriter& writer, const WallSampleList& samples)
   std::vector<std::uint32_t> sources;
   values.reserve(samples.samples.size() * 7);
   for (const WallSample& sample : samples.samples) {
-    values.insert(values.end(), {sample.position.x(), sample.position.y(), sample.velocity_map(0, 0),
-                                 sample.velocity_map(0, 1), sample.velocity_map(1, 0), sample.velocity_map(1, 1),
-                                 sample.volume});
+    values.insert(values.end(),
+                  {sample.position.x(), sample.position.y(), sample.velocity_map(0, 0), sample.velocity_map(0, 1),
+                   sample.velocity_map(1, 0), sample.velocity_map(1, 1), sample.volume});
     sources.push_back(sample.source);
   }
   writer.write_doubles(values);
@@ -344,9 +347,10 @@ void read_wall_samples(CheckpointReader& reader, WallSampleList& samples) {
   samples.offsets = reader.read_u32s();
   const std::vector<double> values = reader.read_doubles();
   const std::vector<std::uint32_t> sources = reader.read_u32s();
-  const bool consistent = values.size() == 7 * sources.size() &&
-                          (samples.offsets.empty() ? sources.empty()
-                                                   : samples.offsets.front() == 0 && samples.offsets.back() == sources.size());
+  const bool consistent =
+      values.size() == 7 * sources.size() &&
+      (samples.offsets.empty() ? sources.empty()
+                               : samples.offsets.front() == 0 && samples.offsets.back() == sources.size());
   if (!consistent) reader.fail("inconsistent wall samples");
   samples.samples.resize(sources.size());
   for (std::size_t k = 0; k < sources.size(); ++k) {

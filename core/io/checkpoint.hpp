@@ -24,10 +24,10 @@
 #include <utility>
 #include <vector>
 
-#include "core/search/neighbour_search.hpp"
-#include "core/walls/wall_samples.hpp"
 #include "core/base/particles.hpp"
 #include "core/base/types.hpp"
+#include "core/search/neighbour_search.hpp"
+#include "core/walls/wall_samples.hpp"
 
 namespace mps_lab {
 
@@ -98,8 +98,8 @@ class CheckpointReader {
   std::string source_;
   std::string revision_;
   std::map<std::string, std::pair<std::size_t, std::size_t>> sections_;  // name -> (offset, length)
-  std::string section_;        // the open section, "" if none
-  std::size_t cursor_ = 0;     // offset in content_
+  std::string section_;                                                  // the open section, "" if none
+  std::size_t cursor_ = 0;                                               // offset in content_
   std::size_t section_end_ = 0;
 };
 

@@ -16,8 +16,8 @@
 #include <fcntl.h>
 #include <unistd.h>
 
-#include "core/io/checkpoint.hpp"
 #include "core/base/error.hpp"
+#include "core/io/checkpoint.hpp"
 
 namespace mps_lab {
 

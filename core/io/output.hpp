@@ -17,8 +17,8 @@
 
 #include <nlohmann/json.hpp>
 
-#include "core/run/method.hpp"
 #include "core/base/particles.hpp"
+#include "core/run/method.hpp"
 
 namespace mps_lab {
 
@@ -52,12 +52,12 @@ std::string frame_stem(long long step);
 // file's arrays (points and velocities as (x, y, 0) triples).
 struct FrameData {
   long long step = 0;
-  double time = 0.0;  // s
-  std::string title;  // the VTK legacy header line starts with it
-  std::vector<double> points;        // m, 3 per particle: x, y, 0
-  std::vector<double> velocity;      // m/s, 3 per particle: vx, vy, 0
-  std::vector<double> pressure;      // Pa
-  std::vector<std::int32_t> type;    // ParticleType values (0 fluid, 1 wall)
+  double time = 0.0;                              // s
+  std::string title;                              // the VTK legacy header line starts with it
+  std::vector<double> points;                     // m, 3 per particle: x, y, 0
+  std::vector<double> velocity;                   // m/s, 3 per particle: vx, vy, 0
+  std::vector<double> pressure;                   // Pa
+  std::vector<std::int32_t> type;                 // ParticleType values (0 fluid, 1 wall)
   std::vector<std::string> field_names;           // the method's written fields, in order
   std::vector<std::vector<double>> field_values;  // one array per name
 
@@ -128,13 +128,13 @@ class RunOutput {
   void prepare_resume();
   // Copies the frame and hands it to the writer (first waiting for the previous frame, if
   // it is still being written); the files and indexes appear when it is written.
-  void write_frame(const ParticleSet& particles, const std::vector<FieldSpec>& fields, double time,
-                   long long step, const std::string& title);
+  void write_frame(const ParticleSet& particles, const std::vector<FieldSpec>& fields, double time, long long step,
+                   const std::string& title);
   // Waits until every frame handed over is on disk.
   void flush();
   void add_series_row(const std::vector<double>& values);  // one value per column
-  void write_series();  // rewrites series.csv atomically with every row so far
-  void write_summary(const nlohmann::json& summary);  // run.json, after flush()
+  void write_series();                                     // rewrites series.csv atomically with every row so far
+  void write_summary(const nlohmann::json& summary);       // run.json, after flush()
 
   // Checkpoints: the series rows so far and the frames written (core/io/checkpoint.hpp).
   // save_state flushes first, so that a checkpoint lists only frames that are on disk.

@@ -170,8 +170,9 @@ nlohmann::json parse_json(const std::string& text, const std::string& source, co
       if (depth >= kDeepestNesting) {
         std::string path = path_of();  // "description[0][0]...[0]" is named "description"
         while (!path.empty() && path.back() == ']') path.erase(path.rfind('['));
-        throw_input_error(source, path, "got values nested deeper than " + std::to_string(kDeepestNesting) +
-                                                   " levels, expected at most the 5 of a scene");
+        throw_input_error(source, path,
+                          "got values nested deeper than " + std::to_string(kDeepestNesting) +
+                              " levels, expected at most the 5 of a scene");
       }
       levels.push_back({event == Event::object_start, {}, {}, -1});
     } else if (event == Event::object_end || event == Event::array_end) {
@@ -238,8 +239,9 @@ std::vector<WallTreatmentChoice> resolve_wall_treatments(const MethodInfo& metho
     if (choice.enabled) {
       const std::string gap = wall_treatment_support_gap(*info, method);
       if (!gap.empty()) {
-        throw_input_error(source, key,
-                          "wall treatment '" + info->name + "' does not support method '" + method.name + "' (" + gap + ")");
+        throw_input_error(
+            source, key,
+            "wall treatment '" + info->name + "' does not support method '" + method.name + "' (" + gap + ")");
       }
     }
     if (named || default_on) choices.push_back(std::move(choice));
@@ -273,10 +275,17 @@ std::vector<WallTreatmentChoice> resolve_wall_treatments(const MethodInfo& metho
 }  // namespace
 
 std::vector<SceneBlockSpec> shared_scene_keys() {
-  return {{"", top_level_keys()},     {"domain", domain_keys()},   {"walls", wall_keys()},
-          {"walls.obstacles[]", obstacle_keys()}, {"fluid_blocks[]", fluid_block_keys()}, {"physics", physics_keys()}, {"time", time_keys()},
-          {"output", output_keys()},  {"diagnostics", diagnostics_keys()},
-          {"diagnostics.pressure_sensors[]", pressure_sensor_keys()}, {"stability", stability_keys()}};
+  return {{"", top_level_keys()},
+          {"domain", domain_keys()},
+          {"walls", wall_keys()},
+          {"walls.obstacles[]", obstacle_keys()},
+          {"fluid_blocks[]", fluid_block_keys()},
+          {"physics", physics_keys()},
+          {"time", time_keys()},
+          {"output", output_keys()},
+          {"diagnostics", diagnostics_keys()},
+          {"diagnostics.pressure_sensors[]", pressure_sensor_keys()},
+          {"stability", stability_keys()}};
 }
 
 const MethodConfig& Scene::method_config(const std::string& name) const {
@@ -317,8 +326,7 @@ void apply_override(nlohmann::json& document, const std::string& assignment, con
       char* end = nullptr;
       const long index = std::strtol(name.c_str(), &end, 10);
       if (*end != '\0' || index < 0 || static_cast<std::size_t>(index) >= node->size()) {
-        throw_input_error(source, key, "'" + name + "' is not an index of an array of " +
-                                           std::to_string(node->size()));
+        throw_input_error(source, key, "'" + name + "' is not an index of an array of " + std::to_string(node->size()));
       }
       node = &(*node)[static_cast<std::size_t>(index)];
     } else {
@@ -330,8 +338,8 @@ void apply_override(nlohmann::json& document, const std::string& assignment, con
   }
 }
 
-Scene load_scene(const std::string& path, const std::vector<std::string>& overrides,
-                 const MethodRegistry& methods, const WallTreatmentRegistry& walls) {
+Scene load_scene(const std::string& path, const std::vector<std::string>& overrides, const MethodRegistry& methods,
+                 const WallTreatmentRegistry& walls) {
   std::error_code ignored;
   if (std::filesystem::is_directory(path, ignored)) throw_input_error(path, "", "is a folder, expected a scene file");
   std::ifstream file(path, std::ios::binary);
@@ -371,8 +379,8 @@ namespace {
 // The top-level keys; every block that is given must be an object (null is not "the
 // defaults"; fluid_blocks is an array, read below).
 void read_top_level(const nlohmann::json& document, const std::string& source, Scene& scene) {
-  const std::set<std::string> blocks = {"domain", "walls", "fluid_blocks", "physics", "time",
-                                        "output", "diagnostics", "stability", "methods"};
+  const std::set<std::string> blocks = {"domain", "walls",       "fluid_blocks", "physics", "time",
+                                        "output", "diagnostics", "stability",    "methods"};
   const auto top = resolve_parameters(top_level_keys(), document, source, "", blocks);
   // A block that is given must be an object: null is not "the defaults" (fluid_blocks: below).
   for (const auto& name : blocks) {
@@ -399,10 +407,12 @@ void read_walls(const nlohmann::json& document, const std::string& source, Scene
   if (walls_json.is_object() && walls_json.contains("obstacles")) {
     const auto& obstacles = walls_json.at("obstacles");
     if (!obstacles.is_array()) {
-      throw_input_error(source, "walls.obstacles", "got " + describe_json(obstacles) + ", expected an array of {min, max} boxes");
+      throw_input_error(source, "walls.obstacles",
+                        "got " + describe_json(obstacles) + ", expected an array of {min, max} boxes");
     }
     for (std::size_t k = 0; k < obstacles.size(); ++k) {
-      const auto box = resolve_parameters(obstacle_keys(), obstacles[k], source, "walls.obstacles[" + std::to_string(k) + "]");
+      const auto box =
+          resolve_parameters(obstacle_keys(), obstacles[k], source, "walls.obstacles[" + std::to_string(k) + "]");
       scene.walls.obstacles.push_back({box.vector2("min"), box.vector2("max")});
     }
   }
@@ -466,7 +476,8 @@ void read_diagnostics(const nlohmann::json& document, const std::string& source,
   if (diagnostics_block.is_object() && diagnostics_block.contains("pressure_sensors")) {
     const auto& sensors = diagnostics_block.at("pressure_sensors");
     if (!sensors.is_array()) {
-      throw_input_error(source, "diagnostics.pressure_sensors", "got " + describe_json(sensors) + ", expected an array");
+      throw_input_error(source, "diagnostics.pressure_sensors",
+                        "got " + describe_json(sensors) + ", expected an array");
     }
     std::set<std::string> names;
     for (std::size_t k = 0; k < sensors.size(); ++k) {
@@ -479,7 +490,8 @@ void read_diagnostics(const nlohmann::json& document, const std::string& source,
         throw_input_error(source, path + ".name", "got " + describe_json(name) + ", expected letters, digits and _");
       }
       if (!names.insert(name).second) {
-        throw_input_error(source, path + ".name", "got " + describe_json(name) + ", expected a name no other sensor has");
+        throw_input_error(source, path + ".name",
+                          "got " + describe_json(name) + ", expected a name no other sensor has");
       }
       scene.diagnostics.pressure_sensors.push_back({name, sensor.vector2("position")});
     }
@@ -492,13 +504,15 @@ void check_domain_extent(const std::string& source, const Scene& scene) {
   const double l0 = scene.particle_spacing;
   const Vec2 extent = scene.domain.max - scene.domain.min;
   if (!(extent.x() > 0.0 && extent.y() > 0.0)) {
-    throw_input_error(source, "domain.max", "got " + describe_point(scene.domain.max) +
-                                                ", expected a point above and to the right of domain.min " +
-                                                describe_point(scene.domain.min));
+    throw_input_error(source, "domain.max",
+                      "got " + describe_point(scene.domain.max) +
+                          ", expected a point above and to the right of domain.min " +
+                          describe_point(scene.domain.min));
   }
   if (!std::isfinite(extent.x()) || !std::isfinite(extent.y())) {
-    throw_input_error(source, "domain", "got min " + describe_point(scene.domain.min) + " and max " +
-                                            describe_point(scene.domain.max) + ", expected a finite width and height");
+    throw_input_error(source, "domain",
+                      "got min " + describe_point(scene.domain.min) + " and max " + describe_point(scene.domain.max) +
+                          ", expected a finite width and height");
   }
   if (extent.x() / l0 * extent.y() / l0 > kLargestLatticePoints) {
     throw_input_error(source, "particle_spacing",
@@ -559,8 +573,10 @@ void check_obstacles(const std::string& source, const Scene& scene) {
       const Vec2 steps = (point - scene.domain.min) / l0;
       if (std::fabs(steps.x() - std::round(steps.x())) > 1e-6 || std::fabs(steps.y() - std::round(steps.y())) > 1e-6) {
         throw_input_error(source, path + corner,
-                          "got " + describe_point(point) + ", expected a lattice point (domain.min + whole multiples of "
-                          "particle_spacing " + describe_json(l0) + " m)");
+                          "got " + describe_point(point) +
+                              ", expected a lattice point (domain.min + whole multiples of "
+                              "particle_spacing " +
+                              describe_json(l0) + " m)");
       }
     }
   }
@@ -581,16 +597,18 @@ void check_pressure_sensors(const std::string& source, const Scene& scene) {
 void check_time_and_output(const std::string& source, const Scene& scene) {
   const double dt = scene.time.time_step;
   if (dt > scene.time.end_time && scene.time.end_time > 0.0) {
-    throw_input_error(source, "time.time_step", "got " + describe_json(dt) + ", expected at most time.end_time (" +
-                                                    describe_json(scene.time.end_time) + " s)");
+    throw_input_error(
+        source, "time.time_step",
+        "got " + describe_json(dt) + ", expected at most time.end_time (" + describe_json(scene.time.end_time) + " s)");
   }
   if (scene.time.end_time / dt > kMostTimeSteps) {
-    throw_input_error(source, "time.end_time", "got " + describe_json(scene.time.end_time) +
-                                                   ", expected at most 1e10 steps of time.time_step (" +
-                                                   describe_json(kMostTimeSteps * dt) + " s)");
+    throw_input_error(source, "time.end_time",
+                      "got " + describe_json(scene.time.end_time) +
+                          ", expected at most 1e10 steps of time.time_step (" + describe_json(kMostTimeSteps * dt) +
+                          " s)");
   }
   const std::pair<const char*, double> intervals[] = {{"output.frame_interval", scene.output.frame_interval},
-                                                       {"output.series_interval", scene.output.series_interval}};
+                                                      {"output.series_interval", scene.output.series_interval}};
   for (const auto& [key, interval] : intervals) {
     if (interval > 0.0 && interval < kShortestIntervalInSteps * dt) {
       throw_input_error(source, key,
@@ -620,8 +638,9 @@ const nlohmann::json& checked_method_blocks(const nlohmann::json& document, cons
         throw_input_error(source, "methods." + name, "got " + describe_json(block) + ", expected an object");
       }
       if (block.contains("wall_treatments") && !block.at("wall_treatments").is_object()) {
-        throw_input_error(source, "methods." + name + ".wall_treatments",
-                          "got " + describe_json(block.at("wall_treatments")) + ", expected an object of wall treatments");
+        throw_input_error(
+            source, "methods." + name + ".wall_treatments",
+            "got " + describe_json(block.at("wall_treatments")) + ", expected an object of wall treatments");
       }
     }
   }
@@ -629,12 +648,13 @@ const nlohmann::json& checked_method_blocks(const nlohmann::json& document, cons
 }
 
 // Every registered method's parameters and wall treatments, from its block or the defaults.
-void read_method_configs(const nlohmann::json& method_blocks, const std::string& source,
-                         const MethodRegistry& methods, const WallTreatmentRegistry& walls, Scene& scene) {
+void read_method_configs(const nlohmann::json& method_blocks, const std::string& source, const MethodRegistry& methods,
+                         const WallTreatmentRegistry& walls, Scene& scene) {
   for (const auto* info : methods.all()) {
     const std::string path = "methods." + info->name;
-    const nlohmann::json& block =
-        method_blocks.is_object() && method_blocks.contains(info->name) ? method_blocks.at(info->name) : nlohmann::json();
+    const nlohmann::json& block = method_blocks.is_object() && method_blocks.contains(info->name)
+                                      ? method_blocks.at(info->name)
+                                      : nlohmann::json();
     MethodConfig config;
     config.parameters = resolve_parameters(info->parameters, block, source, path, {"wall_treatments"});
     const nlohmann::json& treatments =
@@ -671,7 +691,8 @@ Scene parse_scene(nlohmann::json document, const std::string& source, const Meth
   check_time_and_output(source, scene);
   read_method_configs(checked_method_blocks(document, source, methods), source, methods, walls, scene);
   if (methods.find(scene.method) == nullptr) {
-    throw_input_error(source, "method", "unknown method '" + scene.method + "' (registered: " + join(methods.names()) + ")");
+    throw_input_error(source, "method",
+                      "unknown method '" + scene.method + "' (registered: " + join(methods.names()) + ")");
   }
   scene.document = std::move(document);
   return scene;

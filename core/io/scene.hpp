@@ -10,8 +10,8 @@
 #include <nlohmann/json.hpp>
 
 #include "core/base/parameters.hpp"
-#include "core/run/stability.hpp"
 #include "core/base/types.hpp"
+#include "core/run/stability.hpp"
 #include "core/walls/wall_treatment.hpp"
 
 namespace mps_lab {
@@ -35,8 +35,8 @@ struct TankWalls {
 };
 
 struct FluidBlock {
-  Box region;                       // particles at (i l0, j l0) strictly inside (spec §4 note)
-  Vec2 velocity = Vec2::Zero();     // initial velocity, m/s
+  Box region;                    // particles at (i l0, j l0) strictly inside (spec §4 note)
+  Vec2 velocity = Vec2::Zero();  // initial velocity, m/s
 };
 
 struct Physics {
@@ -52,14 +52,14 @@ struct TimeControl {
 
 struct OutputControl {
   std::string directory = "output";
-  long long frame_every_steps = 100;   // CSV/VTK frames (spec §3)
-  long long series_every_steps = 10;   // rows of series.csv
-  double frame_interval = 0.0;         // s; > 0: also a frame at the first step at or after each multiple
-  double series_interval = 0.0;        // s; > 0: also a series row at the first step at or after each multiple
+  long long frame_every_steps = 100;     // CSV/VTK frames (spec §3)
+  long long series_every_steps = 10;     // rows of series.csv
+  double frame_interval = 0.0;           // s; > 0: also a frame at the first step at or after each multiple
+  double series_interval = 0.0;          // s; > 0: also a series row at the first step at or after each multiple
   long long checkpoint_every_steps = 0;  // > 0: checkpoint.bin every N steps (core/io/checkpoint.hpp)
-  bool csv = true;   // output_XXXXXX.csv (spec §10.1)
-  bool vtk = true;   // output_XXXXXX.vtk, VTK legacy ASCII (spec §10.2), and output.vtk.series
-  bool vtu = false;  // output_XXXXXX.vtu, VTK XML appended binary, and output.pvd
+  bool csv = true;                       // output_XXXXXX.csv (spec §10.1)
+  bool vtk = true;                       // output_XXXXXX.vtk, VTK legacy ASCII (spec §10.2), and output.vtk.series
+  bool vtu = false;                      // output_XXXXXX.vtu, VTK XML appended binary, and output.pvd
 };
 
 // A point where series.csv records the fluid pressure (column "pressure_<name>").
@@ -70,9 +70,9 @@ struct PressureSensor {
 
 // Definitions of the measured quantities in series.csv (see docs/scene-format.md).
 struct DiagnosticsControl {
-  double front_link_distance = 1.5;   // l0: particles closer than this belong to one body of water
-  double height_probe_width = 1.5;    // l0: the back-wall height probes particles this close to the wall
-  double density_support = 2.4;       // l0: support of the kernel of the common density measure
+  double front_link_distance = 1.5;  // l0: particles closer than this belong to one body of water
+  double height_probe_width = 1.5;   // l0: the back-wall height probes particles this close to the wall
+  double density_support = 2.4;      // l0: support of the kernel of the common density measure
   std::vector<PressureSensor> pressure_sensors;
 };
 
@@ -83,7 +83,7 @@ struct MethodConfig {
 };
 
 struct Scene {
-  std::string source;        // the file, for messages and run.json
+  std::string source;  // the file, for messages and run.json
   std::string description;
   double particle_spacing = 0.025;  // l0, m
   Box domain;
@@ -93,18 +93,18 @@ struct Scene {
   TimeControl time;
   OutputControl output;
   DiagnosticsControl diagnostics;
-  StabilitySettings stability;                 // the "stability" block (core/run/stability.hpp)
-  std::string method;                          // the scene's default method
+  StabilitySettings stability;                  // the "stability" block (core/run/stability.hpp)
+  std::string method;                           // the scene's default method
   std::map<std::string, MethodConfig> methods;  // one entry per registered method
-  nlohmann::json document;                     // the JSON after --set overrides
+  nlohmann::json document;                      // the JSON after --set overrides
 
   const MethodConfig& method_config(const std::string& name) const;
 };
 
 // Reads, applies overrides ("dotted.key=value", value parsed as JSON, else a string) and
 // validates. Throws InputError.
-Scene load_scene(const std::string& path, const std::vector<std::string>& overrides,
-                 const MethodRegistry& methods, const WallTreatmentRegistry& walls);
+Scene load_scene(const std::string& path, const std::vector<std::string>& overrides, const MethodRegistry& methods,
+                 const WallTreatmentRegistry& walls);
 // The same from the file's text; `source` names it in messages (the fuzz test feeds
 // thousands of malformed texts through the very path that reads files).
 Scene load_scene_text(const std::string& text, const std::string& source, const std::vector<std::string>& overrides,

@@ -26,8 +26,8 @@ class SphKernel {
 
   double support() const { return support_; }  // m
   SphKernelKind kind() const { return kind_; }
-  double value(double r) const;               // 1/m^2
-  double derivative(double r) const;          // dW/dr, 1/m^3
+  double value(double r) const;       // 1/m^2
+  double derivative(double r) const;  // dW/dr, 1/m^3
   // grad W with respect to x_i of W(|x_i - x_j|); `r_ij` = x_i - x_j.
   Vec2 gradient(const Vec2& r_ij) const {
     const double r = r_ij.norm();

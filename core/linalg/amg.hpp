@@ -108,15 +108,15 @@ class AmgPreconditioner final : public Preconditioner {
 
  private:
   struct Level {
-    CsrMatrix matrix;               // coarse levels only (level 0 uses *fine_matrix_)
-    CsrMatrix prolongator;          // rows of this level x rows of the next
-    CsrMatrix restriction;          // its transpose
-    CsrMatrix product;              // A P, scratch of the Galerkin product
+    CsrMatrix matrix;       // coarse levels only (level 0 uses *fine_matrix_)
+    CsrMatrix prolongator;  // rows of this level x rows of the next
+    CsrMatrix restriction;  // its transpose
+    CsrMatrix product;      // A P, scratch of the Galerkin product
     std::vector<double> inverse_diagonal;
-    double spectral_bound = 2.0;    // Gershgorin bound of rho(D^-1 A)
-    std::vector<int> aggregate;     // per row: aggregate (coarse row), -1 for none
-    std::vector<char> strong;       // per nonzero: strong connection
-    std::vector<int> visit_order;   // aggregation scratch: breadth-first order of the rows
+    double spectral_bound = 2.0;   // Gershgorin bound of rho(D^-1 A)
+    std::vector<int> aggregate;    // per row: aggregate (coarse row), -1 for none
+    std::vector<char> strong;      // per nonzero: strong connection
+    std::vector<int> visit_order;  // aggregation scratch: breadth-first order of the rows
     std::vector<char> visited;
     // V-cycle work vectors (mutable state of the const apply(): one apply at a time).
     mutable std::vector<double> rhs, solution, residual, direction;

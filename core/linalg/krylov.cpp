@@ -81,10 +81,12 @@ std::pair<double, double> blocked_row_products(const CsrMatrix& matrix, const do
 // out = A x, returns shadow . out (both in one pass over the rows).
 double multiply_dot_with(const CsrMatrix& matrix, const double* x, const double* shadow, double* out,
                          std::vector<double>& partial) {
-  return blocked_row_products(matrix, x, partial, [&](int r, double row_sum, double& sum, double&) {
-           out[r] = row_sum;
-           sum += shadow[r] * row_sum;
-         }).first;
+  return blocked_row_products(matrix, x, partial,
+                              [&](int r, double row_sum, double& sum, double&) {
+                                out[r] = row_sum;
+                                sum += shadow[r] * row_sum;
+                              })
+      .first;
 }
 
 // out = A x, returns x . out.
@@ -95,11 +97,13 @@ double multiply_dot(const CsrMatrix& matrix, const double* x, double* out, std::
 // residual = rhs - A x, returns ||residual||^2.
 double residual_norm2(const CsrMatrix& matrix, const double* rhs, const double* x, double* residual,
                       std::vector<double>& partial) {
-  return blocked_row_products(matrix, x, partial, [&](int r, double row_sum, double& sum, double&) {
-           const double difference = rhs[r] - row_sum;
-           residual[r] = difference;
-           sum += difference * difference;
-         }).first;
+  return blocked_row_products(matrix, x, partial,
+                              [&](int r, double row_sum, double& sum, double&) {
+                                const double difference = rhs[r] - row_sum;
+                                residual[r] = difference;
+                                sum += difference * difference;
+                              })
+      .first;
 }
 
 double blocked_dot(const double* a, const double* b, int rows, std::vector<double>& partial) {
@@ -163,7 +167,8 @@ void count_block_pattern(const CsrMatrix& matrix, const std::vector<int>& block_
         if (c >= first && c < last) ++inside;
         has_diagonal = has_diagonal || c == r;
       }
-      row_start[static_cast<std::size_t>(r) + 1] = row_start[static_cast<std::size_t>(r)] + inside + (has_diagonal ? 0 : 1);
+      row_start[static_cast<std::size_t>(r) + 1] =
+          row_start[static_cast<std::size_t>(r)] + inside + (has_diagonal ? 0 : 1);
     }
   }
 }
@@ -223,7 +228,8 @@ void IncompleteLuPreconditioner::setup(const CsrMatrix& matrix) {
           pivot = k;
           break;
         }
-        const double factor = value_[static_cast<std::size_t>(k)] / value_[static_cast<std::size_t>(diagonal_[static_cast<std::size_t>(c)])];
+        const double factor = value_[static_cast<std::size_t>(k)] /
+                              value_[static_cast<std::size_t>(diagonal_[static_cast<std::size_t>(c)])];
         value_[static_cast<std::size_t>(k)] = factor;
         for (int m = diagonal_[static_cast<std::size_t>(c)] + 1; m < row_start_[static_cast<std::size_t>(c) + 1]; ++m) {
           const int target = position_[static_cast<std::size_t>(column_[static_cast<std::size_t>(m)])];
@@ -288,8 +294,8 @@ KrylovResult zero_solution(double* x, int rows) {
 // One CG update: x += alpha p, r -= alpha q, and with a Jacobi preconditioner (inverse_diagonal
 // not null) z = D^-1 r, in one pass. partial[b] = the block's ||r||^2 terms, partial[blocks + b]
 // its r.z terms (0 without Jacobi). Returns ||r||^2.
-double cg_update(double alpha, const double* p, const double* q, const double* inverse_diagonal, int rows,
-                 double* x, double* r, double* z, std::vector<double>& partial) {
+double cg_update(double alpha, const double* p, const double* q, const double* inverse_diagonal, int rows, double* x,
+                 double* r, double* z, std::vector<double>& partial) {
   const int blocks = block_count(rows);
 #pragma omp parallel for schedule(static)
   for (int b = 0; b < blocks; ++b) {
@@ -361,8 +367,10 @@ KrylovResult conjugate_gradient(const CsrMatrix& matrix, const double* rhs, doub
   KrylovResult result;
   const int rows = matrix.rows;
   const int blocks = block_count(rows);
-  for (auto* vector : {&work.residual, &work.direction, &work.product, &work.preconditioned}) ensure_size(*vector, rows);
-  if (work.partial.size() < 2 * static_cast<std::size_t>(blocks)) work.partial.resize(2 * static_cast<std::size_t>(blocks));
+  for (auto* vector : {&work.residual, &work.direction, &work.product, &work.preconditioned})
+    ensure_size(*vector, rows);
+  if (work.partial.size() < 2 * static_cast<std::size_t>(blocks))
+    work.partial.resize(2 * static_cast<std::size_t>(blocks));
 
   const double rhs_norm2 = blocked_dot(rhs, rhs, rows, work.partial);
   if (rhs_norm2 == 0.0) return zero_solution(x, rows);
@@ -394,16 +402,16 @@ struct BicgstabVectors {
   double* r;   // residual
   double* r0;  // shadow residual
   double* p;
-  double* v;   // A y
+  double* v;  // A y
   double* s;
-  double* t;   // A z
-  double* y;   // M^-1 p
-  double* z;   // M^-1 s
+  double* t;  // A z
+  double* y;  // M^-1 p
+  double* z;  // M^-1 s
 };
 
 BicgstabVectors bicgstab_vectors(KrylovWorkspace& work, int rows) {
-  for (auto* vector : {&work.residual, &work.shadow, &work.direction, &work.product, &work.s, &work.t, &work.y,
-                       &work.z}) {
+  for (auto* vector :
+       {&work.residual, &work.shadow, &work.direction, &work.product, &work.s, &work.t, &work.y, &work.z}) {
     ensure_size(*vector, rows);
   }
   return {work.residual.data(), work.shadow.data(), work.direction.data(), work.product.data(),
@@ -487,7 +495,8 @@ KrylovResult bicgstab(const CsrMatrix& matrix, const double* rhs, double* x, con
   const int rows = matrix.rows;
   const int blocks = block_count(rows);
   const BicgstabVectors vec = bicgstab_vectors(work, rows);
-  if (work.partial.size() < 2 * static_cast<std::size_t>(blocks)) work.partial.resize(2 * static_cast<std::size_t>(blocks));
+  if (work.partial.size() < 2 * static_cast<std::size_t>(blocks))
+    work.partial.resize(2 * static_cast<std::size_t>(blocks));
 
   const double rhs_norm2 = blocked_dot(rhs, rhs, rows, work.partial);
   if (rhs_norm2 == 0.0) return zero_solution(x, rows);
@@ -497,8 +506,8 @@ KrylovResult bicgstab(const CsrMatrix& matrix, const double* rhs, double* x, con
   double true_norm2 = residual_norm2(matrix, rhs, x, vec.r, work.partial);
   while (true_norm2 > threshold && result.iterations < settings.max_iterations) {
     const long long iterations_at_start = result.iterations;
-    const bool breakdown = bicgstab_start(matrix, x, preconditioner, true_norm2, threshold, settings.max_iterations,
-                                          vec, work, result);
+    const bool breakdown =
+        bicgstab_start(matrix, x, preconditioner, true_norm2, threshold, settings.max_iterations, vec, work, result);
     true_norm2 = residual_norm2(matrix, rhs, x, vec.r, work.partial);
     if (!std::isfinite(true_norm2)) break;
     // A breakdown before any step of this start cannot be cured by restarting again.

@@ -44,7 +44,8 @@ std::vector<std::vector<int>> find_ungrounded(int rows, const std::vector<char>&
 
 std::vector<std::vector<int>> ungrounded_groups(const CsrMatrix& matrix, const std::vector<char>& grounded) {
   return find_ungrounded(matrix.rows, grounded, [&](int row, auto&& visit) {
-    for (int k = matrix.row_start[static_cast<std::size_t>(row)]; k < matrix.row_start[static_cast<std::size_t>(row) + 1]; ++k) {
+    for (int k = matrix.row_start[static_cast<std::size_t>(row)];
+         k < matrix.row_start[static_cast<std::size_t>(row) + 1]; ++k) {
       visit(matrix.column[static_cast<std::size_t>(k)]);
     }
   });
@@ -62,7 +63,8 @@ Eigen::SparseMatrix<double, Eigen::RowMajor> to_eigen(const CsrMatrix& matrix) {
   std::vector<Eigen::Triplet<double>> entries;
   entries.reserve(matrix.nonzeros());
   for (int row = 0; row < matrix.rows; ++row) {
-    for (int k = matrix.row_start[static_cast<std::size_t>(row)]; k < matrix.row_start[static_cast<std::size_t>(row) + 1]; ++k) {
+    for (int k = matrix.row_start[static_cast<std::size_t>(row)];
+         k < matrix.row_start[static_cast<std::size_t>(row) + 1]; ++k) {
       entries.emplace_back(row, matrix.column[static_cast<std::size_t>(k)], matrix.value[static_cast<std::size_t>(k)]);
     }
   }

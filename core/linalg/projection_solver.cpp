@@ -16,9 +16,7 @@ constexpr int kIncompleteFactorisationBlocks = 2;
 
 }  // namespace
 
-std::vector<std::string> preconditioner_choices() {
-  return {"auto", "jacobi", "incomplete_factorisation", "amg"};
-}
+std::vector<std::string> preconditioner_choices() { return {"auto", "jacobi", "incomplete_factorisation", "amg"}; }
 
 PreconditionerKind preconditioner_from_name(const std::string& name) {
   if (name == "jacobi") return PreconditionerKind::Jacobi;

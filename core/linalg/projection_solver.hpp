@@ -56,10 +56,10 @@ std::unique_ptr<Preconditioner> make_preconditioner(PreconditionerKind kind);
 struct ProjectionSolverSettings {
   KrylovMethod method = KrylovMethod::ConjugateGradient;
   PreconditionerKind preconditioner = PreconditionerKind::Jacobi;
-  double tolerance = 1.0e-8;          // relative residual ||b - A p|| / ||b||
-  long long max_iterations = 10000;   // Krylov iterations (all restarts together)
-  bool warm_start = true;             // start from the particles' pressures, else from 0
-  bool clamp_negative = false;        // write max(p, 0) back (spec §5.2-7 for mps)
+  double tolerance = 1.0e-8;         // relative residual ||b - A p|| / ||b||
+  long long max_iterations = 10000;  // Krylov iterations (all restarts together)
+  bool warm_start = true;            // start from the particles' pressures, else from 0
+  bool clamp_negative = false;       // write max(p, 0) back (spec §5.2-7 for mps)
   // A non-finite residual throws std::runtime_error with this message, before anything is
   // written back (isph); null: the pressures are written back as they are (mps, whose
   // stability monitor reports the NaN).

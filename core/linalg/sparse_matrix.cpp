@@ -37,9 +37,11 @@ void CsrAssembler::finish(CsrMatrix& matrix, bool diagonal_first) {
     const auto from = static_cast<std::size_t>(slot_start_[static_cast<std::size_t>(row)]);
     const auto to = static_cast<std::size_t>(matrix.row_start[static_cast<std::size_t>(row)]);
     const auto length = static_cast<std::size_t>(length_[static_cast<std::size_t>(row)]);
-    std::copy(column_.begin() + static_cast<std::ptrdiff_t>(from), column_.begin() + static_cast<std::ptrdiff_t>(from + length),
+    std::copy(column_.begin() + static_cast<std::ptrdiff_t>(from),
+              column_.begin() + static_cast<std::ptrdiff_t>(from + length),
               matrix.column.begin() + static_cast<std::ptrdiff_t>(to));
-    std::copy(value_.begin() + static_cast<std::ptrdiff_t>(from), value_.begin() + static_cast<std::ptrdiff_t>(from + length),
+    std::copy(value_.begin() + static_cast<std::ptrdiff_t>(from),
+              value_.begin() + static_cast<std::ptrdiff_t>(from + length),
               matrix.value.begin() + static_cast<std::ptrdiff_t>(to));
   }
 }

@@ -5,9 +5,9 @@
 #include <limits>
 #include <vector>
 
-#include "core/search/neighbour_search.hpp"
 #include "core/kernels/sph_kernels.hpp"
 #include "core/search/for_each_neighbour.hpp"
+#include "core/search/neighbour_search.hpp"
 
 namespace mps_lab {
 
@@ -41,8 +41,7 @@ std::size_t label_bodies(const ParticleSet& particles, const NeighbourList& link
       });
     }
   }
-  largest = sizes.empty() ? -1
-                          : static_cast<int>(std::max_element(sizes.begin(), sizes.end()) - sizes.begin());
+  largest = sizes.empty() ? -1 : static_cast<int>(std::max_element(sizes.begin(), sizes.end()) - sizes.begin());
   return sizes.size();
 }
 
@@ -143,9 +142,15 @@ FlowMeasures measure_flow(const ParticleSet& particles, const Scene& scene, Flow
   std::size_t full_support = 0;
   for (std::size_t i = 0; i < particles.size(); ++i) {
     switch (particles.type[i]) {
-      case ParticleType::Wall: ++out.wall; continue;
-      case ParticleType::Ghost: ++out.ghost; continue;
-      case ParticleType::Fluid: ++out.fluid; break;
+      case ParticleType::Wall:
+        ++out.wall;
+        continue;
+      case ParticleType::Ghost:
+        ++out.ghost;
+        continue;
+      case ParticleType::Fluid:
+        ++out.fluid;
+        break;
     }
     const Vec2& x = particles.position[i];
     const double speed2 = particles.velocity[i].squaredNorm();

@@ -45,10 +45,10 @@ struct FlowMeasures {
 struct FlowWorkspace {
   CellList cells;
   NeighbourList neighbours;
-  std::vector<int> label;              // body of each fluid particle (-1: none)
+  std::vector<int> label;  // body of each fluid particle (-1: none)
   std::vector<std::size_t> body_sizes;
   std::vector<std::uint32_t> stack;
-  std::vector<double> ratios;          // rho_i / rho_lattice (fluid; 0 elsewhere)
+  std::vector<double> ratios;  // rho_i / rho_lattice (fluid; 0 elsewhere)
 };
 
 FlowMeasures measure_flow(const ParticleSet& particles, const Scene& scene, FlowWorkspace& workspace);

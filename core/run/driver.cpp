@@ -9,11 +9,11 @@
 #include <omp.h>
 #include <unistd.h>
 
-#include "core/run/profile.hpp"
-#include "core/io/checkpoint.hpp"
 #include "core/base/error.hpp"
+#include "core/io/checkpoint.hpp"
 #include "core/io/geometry.hpp"
 #include "core/io/output.hpp"
+#include "core/run/profile.hpp"
 
 namespace mps_lab {
 
@@ -23,9 +23,7 @@ using Clock = std::chrono::steady_clock;
 
 constexpr std::size_t kTestedParticles = 10000;
 
-double seconds_since(Clock::time_point start) {
-  return std::chrono::duration<double>(Clock::now() - start).count();
-}
+double seconds_since(Clock::time_point start) { return std::chrono::duration<double>(Clock::now() - start).count(); }
 
 std::string utc_timestamp() {
   const std::time_t now = std::time(nullptr);
@@ -39,12 +37,23 @@ std::string utc_timestamp() {
 }  // namespace
 
 std::vector<std::string> series_columns(const MethodInfo& method, const Scene& scene) {
-  std::vector<std::string> columns = {"step",           "time",           "dt",
-                                      "front",          "front_max_x",    "height",
-                                      "kinetic_energy", "max_speed",      "density_error",
-                                      "fluid_particles", "ghost_particles", "solver_iterations",
-                                      "solver_residual", "wall_seconds", "courant_number",
-                                      "mechanical_energy", "stability_events"};
+  std::vector<std::string> columns = {"step",
+                                      "time",
+                                      "dt",
+                                      "front",
+                                      "front_max_x",
+                                      "height",
+                                      "kinetic_energy",
+                                      "max_speed",
+                                      "density_error",
+                                      "fluid_particles",
+                                      "ghost_particles",
+                                      "solver_iterations",
+                                      "solver_residual",
+                                      "wall_seconds",
+                                      "courant_number",
+                                      "mechanical_energy",
+                                      "stability_events"};
   for (const auto& sensor : scene.diagnostics.pressure_sensors) columns.push_back("pressure_" + sensor.name);
   columns.insert(columns.end(), method.series_columns.begin(), method.series_columns.end());
   return columns;
@@ -240,7 +249,8 @@ nlohmann::json read_resumable_summary(const std::filesystem::path& directory, co
     throw_input_error(path, "", "not valid JSON");
   }
   const auto require = [&](const char* key, bool valid, const char* expected) {
-    if (!valid) throw_input_error(path, key, std::string("missing or not ") + expected + ": not a run summary of mps_lab");
+    if (!valid)
+      throw_input_error(path, key, std::string("missing or not ") + expected + ": not a run summary of mps_lab");
   };
   require("method", summary.is_object() && summary.contains("method") && summary["method"].is_string(), "a string");
   require("scene_resolved", summary.contains("scene_resolved") && summary["scene_resolved"].is_object(), "an object");
@@ -248,8 +258,9 @@ nlohmann::json read_resumable_summary(const std::filesystem::path& directory, co
   if (summary["status"] == "completed") {
     const double finished = summary.value("simulated_time", 0.0);
     if (!end_time || *end_time <= finished) {
-      throw_input_error(path, "status", "the run is complete (t = " + format_double(finished) +
-                                            " s); give a later --end-time to continue it");
+      throw_input_error(
+          path, "status",
+          "the run is complete (t = " + format_double(finished) + " s); give a later --end-time to continue it");
     }
   }
   return summary;
@@ -306,7 +317,7 @@ RunSetup resolve_run(const RunOptions& options, const MethodRegistry& methods, c
                                : load_scene(options.scene_path, new_overrides, methods, walls);
   setup.overrides = setup.resuming ? setup.previous.value("overrides", std::vector<std::string>()) : new_overrides;
   if (setup.resuming) setup.overrides.insert(setup.overrides.end(), new_overrides.begin(), new_overrides.end());
-  const std::string method_name = setup.resuming          ? setup.previous["method"].get<std::string>()
+  const std::string method_name = setup.resuming           ? setup.previous["method"].get<std::string>()
                                   : options.method.empty() ? setup.scene.method
                                                            : options.method;
   setup.info = &find_method(methods, method_name);
@@ -340,17 +351,16 @@ nlohmann::json new_run_summary(const RunOptions& options, const RunSetup& setup,
     wall_summary[choice.info->name] = choice.parameters.to_json();
   }
   summary["wall_treatments"] = wall_summary;
-  summary["shared"] = {
-      {"particle_spacing", scene.particle_spacing},
-      {"density", scene.physics.density},
-      {"kinematic_viscosity", scene.physics.kinematic_viscosity},
-      {"gravity", {scene.physics.gravity.x(), scene.physics.gravity.y()}},
-      {"time_step", scene.time.time_step},
-      {"end_time", scene.time.end_time},
-      {"frame_every_steps", scene.output.frame_every_steps},
-      {"series_every_steps", scene.output.series_every_steps},
-      {"front_link_distance", scene.diagnostics.front_link_distance},
-      {"height_probe_width", scene.diagnostics.height_probe_width}};
+  summary["shared"] = {{"particle_spacing", scene.particle_spacing},
+                       {"density", scene.physics.density},
+                       {"kinematic_viscosity", scene.physics.kinematic_viscosity},
+                       {"gravity", {scene.physics.gravity.x(), scene.physics.gravity.y()}},
+                       {"time_step", scene.time.time_step},
+                       {"end_time", scene.time.end_time},
+                       {"frame_every_steps", scene.output.frame_every_steps},
+                       {"series_every_steps", scene.output.series_every_steps},
+                       {"front_link_distance", scene.diagnostics.front_link_distance},
+                       {"height_probe_width", scene.diagnostics.height_probe_width}};
   summary["particles"] = {{"fluid", initial.fluid}, {"wall", initial.wall}, {"total", particles}};
   summary["column"] = {{"width", initial.front}, {"height", initial.height}};
   summary["threads"] = omp_get_max_threads();
@@ -609,8 +619,7 @@ void RunSession::finish(const std::string& stop_reason, RunResult& result) {
   if (!stop_reason.empty()) {
     result.status = "interrupted";
     result.message = "stopped by " + stop_reason + " at t = " + format_double(simulation_.time()) + " s (step " +
-                     std::to_string(simulation_.steps()) + "); continue with: mps_lab resume " +
-                     directory_.string();
+                     std::to_string(simulation_.steps()) + "); continue with: mps_lab resume " + directory_.string();
     if (checkpoint_step_ != simulation_.steps()) write_checkpoint();
     if (output_.last_frame_step() != simulation_.steps()) record(true);
   } else {
@@ -649,9 +658,9 @@ void RunSession::write_final_summary(const RunResult& result) {
   summary_["solver"] = {
       {"total_iterations", simulation_.total_solver_iterations()},
       {"max_iterations", simulation_.max_solver_iterations()},
-      {"mean_iterations", result.steps > 0 ? static_cast<double>(simulation_.total_solver_iterations()) /
-                                                 static_cast<double>(result.steps)
-                                           : 0.0}};
+      {"mean_iterations",
+       result.steps > 0 ? static_cast<double>(simulation_.total_solver_iterations()) / static_cast<double>(result.steps)
+                        : 0.0}};
   summary_["method_summary"] = simulation_.method().summary();
   summary_["stability"] = simulation_.monitor().summary();
   summary_["fluid_particle_steps_per_second"] =
@@ -659,7 +668,8 @@ void RunSession::write_final_summary(const RunResult& result) {
           ? static_cast<double>(initial_.fluid) * static_cast<double>(result.steps) / result.wall_seconds
           : 0.0;
   // This session's phases (a resumed run profiles the steps since it resumed).
-  summary_["profile"] = profile_json(timers_, seconds_since(started_), simulation_.steps() - first_step_, initial_.fluid);
+  summary_["profile"] =
+      profile_json(timers_, seconds_since(started_), simulation_.steps() - first_step_, initial_.fluid);
   summary_["profile"]["threads"] = omp_get_max_threads();
   // The process's peak resident memory (the whole program: at 1e6 particles the particle
   // data dominates; for small scenes the program's own ~10 MB does).
@@ -707,8 +717,7 @@ RunResult RunSession::run() {
 
 }  // namespace
 
-RunResult run_simulation(const RunOptions& options, const MethodRegistry& methods,
-                         const WallTreatmentRegistry& walls) {
+RunResult run_simulation(const RunOptions& options, const MethodRegistry& methods, const WallTreatmentRegistry& walls) {
   const auto started = Clock::now();
   const RunSetup setup = resolve_run(options, methods, walls);
   RunSession session(options, setup, run_directory(options, setup), started);

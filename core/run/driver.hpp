@@ -13,10 +13,10 @@
 
 #include <nlohmann/json.hpp>
 
+#include "core/io/scene.hpp"
 #include "core/run/diagnostics.hpp"
 #include "core/run/method.hpp"
 #include "core/run/profile.hpp"
-#include "core/io/scene.hpp"
 #include "core/run/stability.hpp"
 
 namespace mps_lab {
@@ -81,12 +81,12 @@ class Simulation {
 
 struct RunOptions {
   std::string scene_path;
-  std::string method;                   // empty: the scene's "method"
-  std::string output_directory;         // empty: the scene's output.directory
-  std::vector<std::string> overrides;   // "dotted.key=value"
-  std::optional<double> end_time;       // s, overrides time.end_time
+  std::string method;                               // empty: the scene's "method"
+  std::string output_directory;                     // empty: the scene's output.directory
+  std::vector<std::string> overrides;               // "dotted.key=value"
+  std::optional<double> end_time;                   // s, overrides time.end_time
   std::optional<long long> checkpoint_every_steps;  // overrides output.checkpoint_every_steps
-  bool progress = false;                // progress line on stderr
+  bool progress = false;                            // progress line on stderr
   // Polled after every step. A non-empty answer (the reason, e.g. "SIGTERM") stops the run
   // after that step: checkpoint.bin, a final frame, run.json with status "interrupted".
   std::function<std::string()> stop_reason;
@@ -97,13 +97,13 @@ struct RunOptions {
 };
 
 struct RunResult {
-  std::string status;        // "completed", "interrupted", or why it stopped ("failed", ...)
-  std::string message;       // why, when it did not complete
+  std::string status;   // "completed", "interrupted", or why it stopped ("failed", ...)
+  std::string message;  // why, when it did not complete
   long long steps = 0;
   double simulated_time = 0.0;
   double wall_seconds = 0.0;
   std::filesystem::path directory;
-  nlohmann::json summary;    // what run.json holds
+  nlohmann::json summary;  // what run.json holds
 };
 
 // Loads and validates the scene (InputError), prepares the output folder (OutputError),
@@ -111,8 +111,7 @@ struct RunResult {
 // run.json, not thrown. With options.resume_directory it continues that run instead
 // (InputError if its run.json or checkpoint.bin is missing, mismatched or truncated, or if
 // the run is complete and no later end time is given).
-RunResult run_simulation(const RunOptions& options, const MethodRegistry& methods,
-                         const WallTreatmentRegistry& walls);
+RunResult run_simulation(const RunOptions& options, const MethodRegistry& methods, const WallTreatmentRegistry& walls);
 
 // The series.csv columns of a run: the common ones, the scene's pressure sensors, then the
 // method's own.

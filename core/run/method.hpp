@@ -3,9 +3,9 @@
 // description, the parameters it reads (its block in the scene, "methods.<name>"), the
 // per-particle fields it needs, the solver statistics it reports, the wall treatments it
 // uses by default, its capabilities (the wall hooks its step calls, whether its operators sum
-// over wall samples, the wall-particle models it implements) and a factory. The driver runs whatever the scene and --method name;
-// the method touches the core only through ParticleSet, the neighbour search, the kernels,
-// the wall-treatment hooks and the helpers declared in core/.
+// over wall samples, the wall-particle models it implements) and a factory. The driver runs whatever the scene and
+// --method name; the method touches the core only through ParticleSet, the neighbour search, the kernels, the
+// wall-treatment hooks and the helpers declared in core/.
 //
 // Adding a method: add a folder methods/<name>/ whose sources define
 //   void mps_lab_register_method_<name>(mps_lab::MethodRegistry&);
@@ -82,10 +82,10 @@ struct MethodSetup {
 
 struct MethodInfo {
   std::string name;
-  std::string description;                         // one line, for `mps_lab methods`
+  std::string description;  // one line, for `mps_lab methods`
   std::vector<ParameterSpec> parameters;
   std::vector<FieldSpec> fields;
-  std::vector<std::string> series_columns;         // method-specific statistics in series.csv
+  std::vector<std::string> series_columns;           // method-specific statistics in series.csv
   std::vector<std::string> default_wall_treatments;  // enabled unless the scene says otherwise
   // Capabilities: which wall treatments the method may use follows from these alone
   // (wall_treatment_supports below).

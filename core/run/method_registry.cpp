@@ -7,7 +7,6 @@
 
 namespace mps_lab {
 
-
 void MethodRegistry::add(MethodInfo info) {
   if (info.name.empty() || !info.create) throw std::logic_error("a method needs a name and a factory");
   const std::string name = info.name;
@@ -39,7 +38,9 @@ namespace {
 std::string boundary_gap(const WallTreatmentInfo& wall, const MethodInfo& method) {
   if (wall.role != WallTreatmentRole::Boundary) return "";
   if (!wall.wall_particle_model) {
-    return method.wall_samples ? "" : "it is a boundary model of wall samples, which '" + method.name + "' does not sum over";
+    return method.wall_samples
+               ? ""
+               : "it is a boundary model of wall samples, which '" + method.name + "' does not sum over";
   }
   const auto& models = method.wall_particle_models;
   if (std::find(models.begin(), models.end(), *wall.wall_particle_model) != models.end()) return "";

@@ -44,7 +44,8 @@ void PhaseTimers::reset() {
   }
 }
 
-nlohmann::json profile_json(const PhaseTimers& timers, double wall_seconds, long long steps, std::size_t fluid_particles) {
+nlohmann::json profile_json(const PhaseTimers& timers, double wall_seconds, long long steps,
+                            std::size_t fluid_particles) {
   const auto entry = [&](double seconds, long long calls) {
     return nlohmann::json{{"seconds", seconds},
                           {"calls", calls},
@@ -79,9 +80,9 @@ std::string profile_table(const nlohmann::json& profile) {
   std::snprintf(line, sizeof line, "  %-18s %10s %7s %12s %9s\n", "phase", "seconds", "share", "ms/step", "calls");
   out += line;
   for (const auto& [name, phase] : rows) {
-    std::snprintf(line, sizeof line, "  %-18s %10.3f %6.1f%% %12.4f %9lld\n", name.c_str(), phase.at("seconds").get<double>(),
-                  100.0 * phase.at("share").get<double>(), phase.at("milliseconds_per_step").get<double>(),
-                  phase.at("calls").get<long long>());
+    std::snprintf(line, sizeof line, "  %-18s %10.3f %6.1f%% %12.4f %9lld\n", name.c_str(),
+                  phase.at("seconds").get<double>(), 100.0 * phase.at("share").get<double>(),
+                  phase.at("milliseconds_per_step").get<double>(), phase.at("calls").get<long long>());
     out += line;
   }
   return out;

@@ -78,7 +78,8 @@ inline PhaseTimers::Id phase_id(PhaseTimers* timers, const std::string& name) {
 // run.json's "profile": for every phase its seconds, calls, share of the run's wall time and
 // milliseconds per step, then "other" = wall_seconds - all phases (what no scope covers: the
 // time-step choice, bookkeeping); fluid particle-steps per second over the whole run.
-nlohmann::json profile_json(const PhaseTimers& timers, double wall_seconds, long long steps, std::size_t fluid_particles);
+nlohmann::json profile_json(const PhaseTimers& timers, double wall_seconds, long long steps,
+                            std::size_t fluid_particles);
 
 // The one-screen table of `mps_lab run --profile`, from profile_json().
 std::string profile_table(const nlohmann::json& profile);

@@ -2,13 +2,13 @@
 
 #include <algorithm>
 #include <cmath>
-#include <limits>
 #include <cstdio>
+#include <limits>
 
-#include "core/run/diagnostics.hpp"
-#include "core/run/method.hpp"
 #include "core/base/parallel.hpp"
 #include "core/io/scene.hpp"
+#include "core/run/diagnostics.hpp"
+#include "core/run/method.hpp"
 #include "core/walls/wall_geometry.hpp"
 
 namespace mps_lab {
@@ -16,7 +16,14 @@ namespace mps_lab {
 namespace {
 
 enum EventKind : std::size_t {
-  kNonFinite, kCourant, kSpeedLimited, kEnergyGrowth, kDensity, kPenetration, kEscaped, kSolver
+  kNonFinite,
+  kCourant,
+  kSpeedLimited,
+  kEnergyGrowth,
+  kDensity,
+  kPenetration,
+  kEscaped,
+  kSolver
 };
 
 std::string format(const char* pattern, double a, double b = 0.0, double c = 0.0) {
@@ -109,7 +116,9 @@ bool StabilityMonitor::beyond_a_wall(const Vec2& x) const {
 }
 
 StabilityMonitor::StabilityMonitor(const Scene& scene, StabilitySettings settings)
-    : scene_(scene), geometry_(std::make_shared<const WallGeometry>(scene)), settings_(settings),
+    : scene_(scene),
+      geometry_(std::make_shared<const WallGeometry>(scene)),
+      settings_(settings),
       density_workspace_(std::make_shared<FlowWorkspace>()) {
   state_.counts.assign(stability_event_kinds().size(), 0);
 }
@@ -219,9 +228,11 @@ void StabilityMonitor::check_ghosts(const ParticleSet& particles, std::size_t gh
     state_.ghosts_through_walls = through_walls;
     const std::size_t escaped = ghosts - through_walls;
     if (new_open > 0) {
-      const double fraction = static_cast<double>(escaped) / static_cast<double>(std::max<std::size_t>(state_.initial_fluid, 1));
-      const std::string reason = std::to_string(new_open) + " fluid particle(s) left the domain through an open side (" +
-                                 std::to_string(escaped) + format(" in all, %.3g %% of the fluid)", 100.0 * fraction);
+      const double fraction =
+          static_cast<double>(escaped) / static_cast<double>(std::max<std::size_t>(state_.initial_fluid, 1));
+      const std::string reason = std::to_string(new_open) +
+                                 " fluid particle(s) left the domain through an open side (" + std::to_string(escaped) +
+                                 format(" in all, %.3g %% of the fluid)", 100.0 * fraction);
       record(step, time, kEscaped, reason);
       if (fraction > settings_.max_escaped_fraction && stop_divergence) {
         stop("diverged", step, time,
@@ -237,8 +248,9 @@ void StabilityMonitor::check_penetrations(std::size_t beyond_walls, long long st
   const std::size_t penetrations = beyond_walls + state_.ghosts_through_walls;
   if (beyond_walls > 0 || penetrations > state_.last_penetrations) {
     const std::string reason = std::to_string(penetrations) +
-                               " fluid particle(s) beyond a wall's first particle line (" + std::to_string(beyond_walls) +
-                               " inside the wall, " + std::to_string(state_.ghosts_through_walls) + " through it)";
+                               " fluid particle(s) beyond a wall's first particle line (" +
+                               std::to_string(beyond_walls) + " inside the wall, " +
+                               std::to_string(state_.ghosts_through_walls) + " through it)";
     record(step, time, kPenetration, reason);
     if (static_cast<long long>(penetrations) > settings_.max_wall_penetrations && stop_divergence) {
       stop("diverged", step, time,
@@ -256,9 +268,10 @@ void StabilityMonitor::check_speed(const StepReport& report, double max_speed2, 
   const bool stop_divergence = settings_.stop_on_divergence;
   state_.last_courant = std::sqrt(max_speed2) * dt / l0;
   if (state_.last_courant > settings_.courant_limit) {
-    const std::string reason = format("the Courant number max|u| dt/l0 = %.3g exceeds stability.courant_limit = %.3g "
-                                      "(max |u| = %.3g m/s)",
-                                      state_.last_courant, settings_.courant_limit, std::sqrt(max_speed2));
+    const std::string reason = format(
+        "the Courant number max|u| dt/l0 = %.3g exceeds stability.courant_limit = %.3g "
+        "(max |u| = %.3g m/s)",
+        state_.last_courant, settings_.courant_limit, std::sqrt(max_speed2));
     record(step, time, kCourant, reason);
     if (stop_divergence) stop("diverged", step, time, reason);
   }
@@ -268,7 +281,8 @@ void StabilityMonitor::check_speed(const StepReport& report, double max_speed2, 
                             static_cast<double>(std::max<std::size_t>(state_.initial_fluid, 1));
     const std::string reason =
         "a wall treatment capped the speed of " + std::to_string(report.speed_limited_particles) +
-        format(" fluid particles (%.3g %% of the fluid): the time step is beyond what the flow allows", 100.0 * fraction);
+        format(" fluid particles (%.3g %% of the fluid): the time step is beyond what the flow allows",
+               100.0 * fraction);
     record(step, time, kSpeedLimited, reason);
     if (fraction > settings_.max_speed_limited_fraction && stop_divergence) {
       stop("diverged", step, time,
@@ -278,8 +292,8 @@ void StabilityMonitor::check_speed(const StepReport& report, double max_speed2, 
 }
 
 // Every density_check_every_steps: the common density error; and the solver's convergence.
-void StabilityMonitor::check_density_and_solver(const ParticleSet& particles, const StepReport& report,
-                                                long long step, double time) {
+void StabilityMonitor::check_density_and_solver(const ParticleSet& particles, const StepReport& report, long long step,
+                                                double time) {
   const bool stop_divergence = settings_.stop_on_divergence;
   if (step % settings_.density_check_every_steps == 0) {
     state_.last_density_error = common_density_error(particles, scene_, *density_workspace_);
@@ -292,15 +306,15 @@ void StabilityMonitor::check_density_and_solver(const ParticleSet& particles, co
   }
 
   if (!report.solver_converged) {
-    const std::string reason =
-        "the pressure solver did not converge" + (report.solver_note.empty() ? std::string() : ": " + report.solver_note);
+    const std::string reason = "the pressure solver did not converge" +
+                               (report.solver_note.empty() ? std::string() : ": " + report.solver_note);
     record(step, time, kSolver, reason);
     if (settings_.stop_on_solver_failure) stop("solver_failed", step, time, reason);
   }
 }
 
-void StabilityMonitor::check_step(const ParticleSet& particles, const StepReport& report, long long step,
-                                  double time, double dt) {
+void StabilityMonitor::check_step(const ParticleSet& particles, const StepReport& report, long long step, double time,
+                                  double dt) {
   const ParticleScan scan = scan_particles(particles);
   if (scan.first_non_finite >= 0) {
     const std::string reason =

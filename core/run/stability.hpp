@@ -46,16 +46,16 @@ struct Scene;
 struct StepReport;
 
 struct StabilitySettings {
-  bool stop_on_divergence = true;        // "on_divergence": "stop" | "continue"
-  bool stop_on_solver_failure = false;   // "on_solver_failure": "stop" | "continue"
-  double courant_limit = 1.0;            // max |u| dt / l0
+  bool stop_on_divergence = true;            // "on_divergence": "stop" | "continue"
+  bool stop_on_solver_failure = false;       // "on_solver_failure": "stop" | "continue"
+  double courant_limit = 1.0;                // max |u| dt / l0
   double max_speed_limited_fraction = 0.05;  // of the fluid, capped by a wall treatment in one step
-  double energy_growth_limit = 0.5;      // allowed (E - E0) / E_scale
-  double density_error_limit = 0.2;      // mean |rho/rho_lattice - 1|
+  double energy_growth_limit = 0.5;          // allowed (E - E0) / E_scale
+  double density_error_limit = 0.2;          // mean |rho/rho_lattice - 1|
   long long density_check_every_steps = 50;
-  long long max_wall_penetrations = 0;   // fluid particles beyond a wall's first particle line
-  double max_escaped_fraction = 0.05;    // of the initial fluid, through open sides
-  long long logged_events = 100;         // events kept in run.json (all are counted)
+  long long max_wall_penetrations = 0;  // fluid particles beyond a wall's first particle line
+  double max_escaped_fraction = 0.05;   // of the initial fluid, through open sides
+  long long logged_events = 100;        // events kept in run.json (all are counted)
 };
 
 // The keys of the scene's "stability" block, for parsing and docs/scene-format.md.
@@ -64,9 +64,9 @@ StabilitySettings stability_settings(const ParameterValues& values);
 
 struct StabilityEvent {
   long long step = 0;
-  double time = 0.0;    // s
-  std::string kind;     // one of stability_event_kinds()
-  std::string detail;   // one line with the numbers
+  double time = 0.0;   // s
+  std::string kind;    // one of stability_event_kinds()
+  std::string detail;  // one line with the numbers
 };
 
 // Thrown by Simulation::advance when the monitor stops the run. `status` is "diverged" or
@@ -84,21 +84,21 @@ class RunStopped : public std::runtime_error {
 // The monitor's state is plain data, so a checkpoint can save and restore it (every field
 // is written by write_stability_state in core/run/driver.cpp: a new field goes there too).
 struct StabilityState {
-  double initial_energy = 0.0;     // J/m, E at t = 0
-  double energy_scale = 0.0;       // J/m, E_scale (see stability_energy_scale)
-  double last_energy = 0.0;        // J/m, E after the last step
-  double last_courant = 0.0;       // max |u| dt / l0 of the last step
-  double last_density_error = 0.0; // at the last density check
+  double initial_energy = 0.0;      // J/m, E at t = 0
+  double energy_scale = 0.0;        // J/m, E_scale (see stability_energy_scale)
+  double last_energy = 0.0;         // J/m, E after the last step
+  double last_courant = 0.0;        // max |u| dt / l0 of the last step
+  double last_density_error = 0.0;  // at the last density check
   // The smallest distance of a fluid particle from a wall surface over the run, m
   // (core/walls/wall_geometry.hpp; negative: that far past the surface).
   double min_wall_distance = 0.0;
   std::size_t initial_fluid = 0;
-  std::size_t ghosts = 0;          // ghosts after the last step
+  std::size_t ghosts = 0;                // ghosts after the last step
   std::size_t ghosts_through_walls = 0;  // of those, left through a wall
   std::size_t last_penetrations = 0;     // fluid beyond a wall line + ghosts through walls
   long long events_total = 0;
-  std::vector<long long> counts;   // per kind, in the order of stability_event_kinds()
-  std::vector<StabilityEvent> log; // the first `logged_events`
+  std::vector<long long> counts;    // per kind, in the order of stability_event_kinds()
+  std::vector<StabilityEvent> log;  // the first `logged_events`
 };
 
 const std::vector<std::string>& stability_event_kinds();
@@ -129,7 +129,7 @@ class StabilityMonitor {
 
   const StabilitySettings& settings() const { return settings_; }
   const StabilityState& state() const { return state_; }
-  StabilityState& state() { return state_; }  // for checkpoint restore
+  StabilityState& state() { return state_; }       // for checkpoint restore
   long long count(const std::string& kind) const;  // events of one kind so far
   // run.json "stability": settings, counts per kind, first event per kind, the event log.
   nlohmann::json summary() const;
@@ -137,10 +137,10 @@ class StabilityMonitor {
  private:
   // What one pass over the particles finds (scan_particles).
   struct ParticleScan {
-    double max_speed2 = 0.0;              // m^2/s^2
+    double max_speed2 = 0.0;  // m^2/s^2
     std::size_t ghosts = 0;
-    std::size_t beyond_walls = 0;         // fluid beyond a wall's first particle line
-    double min_wall_distance = 0.0;       // m
+    std::size_t beyond_walls = 0;          // fluid beyond a wall's first particle line
+    double min_wall_distance = 0.0;        // m
     std::ptrdiff_t first_non_finite = -1;  // -1: every particle finite
   };
   ParticleScan scan_particles(const ParticleSet& particles) const;

@@ -2,8 +2,8 @@
 
 #include <algorithm>
 
-#include "core/io/checkpoint.hpp"
 #include "core/base/error.hpp"
+#include "core/io/checkpoint.hpp"
 
 namespace mps_lab {
 
@@ -45,8 +45,7 @@ TimeStepSettings time_step_settings(const ParameterValues& parameters, double fi
   return settings;
 }
 
-double TimeStepClock::next(const TimeStepSettings& settings, double max_speed, double spacing,
-                           double end_time) const {
+double TimeStepClock::next(const TimeStepSettings& settings, double max_speed, double spacing, double end_time) const {
   if (!settings.cfl) return settings.fixed_time_step;
   double dt = max_speed > 0.0 ? settings.cfl_number * spacing / max_speed : settings.max_time_step;
   dt = std::clamp(dt, settings.min_time_step, settings.max_time_step);

@@ -26,11 +26,11 @@ class CheckpointWriter;
 class CheckpointReader;
 
 struct TimeStepSettings {
-  bool cfl = false;             // false: the scene's time.time_step
+  bool cfl = false;              // false: the scene's time.time_step
   double fixed_time_step = 0.0;  // s, the scene's time.time_step
-  double cfl_number = 0.4;      // dt = cfl_number l0 / v_max
-  double min_time_step = 0.0;   // s
-  double max_time_step = 0.0;   // s
+  double cfl_number = 0.4;       // dt = cfl_number l0 / v_max
+  double min_time_step = 0.0;    // s
+  double max_time_step = 0.0;    // s
 };
 
 // The four declarations, with a method's defaults; cfl_source and bounds_source cite where the
@@ -74,8 +74,8 @@ class TimeStepClock {
   void restore(CheckpointReader& in);
 
  private:
-  double elapsed_ = 0.0, compensation_ = 0.0;  // s
-  double last_ = 0.0;                          // s
+  double elapsed_ = 0.0, compensation_ = 0.0;                                  // s
+  double last_ = 0.0;                                                          // s
   double smallest_ = std::numeric_limits<double>::infinity(), largest_ = 0.0;  // s
   long long steps_ = 0;
 };

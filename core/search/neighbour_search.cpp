@@ -27,8 +27,7 @@ std::int64_t CellList::cell_of(const Vec2& x) const {
   return iy * cells_x_ + ix;
 }
 
-void CellList::build(const std::vector<Vec2>& positions, const std::vector<ParticleType>& types,
-                     double cell_size) {
+void CellList::build(const std::vector<Vec2>& positions, const std::vector<ParticleType>& types, double cell_size) {
   if (!(cell_size > 0.0)) throw std::invalid_argument("CellList: cell size must be > 0");
   cell_size_ = cell_size;
   const std::size_t n = positions.size();
@@ -141,8 +140,8 @@ void CellList::find_neighbours(const std::vector<Vec2>& positions, const std::ve
   }
 }
 
-NeighbourList brute_force_neighbours(const std::vector<Vec2>& positions,
-                                     const std::vector<ParticleType>& types, double radius) {
+NeighbourList brute_force_neighbours(const std::vector<Vec2>& positions, const std::vector<ParticleType>& types,
+                                     double radius) {
   const std::size_t n = positions.size();
   NeighbourList out;
   out.radius = radius;

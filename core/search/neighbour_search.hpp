@@ -25,7 +25,7 @@ namespace mps_lab {
 struct NeighbourList {
   std::vector<std::uint32_t> offsets;  // size N + 1
   std::vector<std::uint32_t> indices;
-  double radius = 0.0;                 // m
+  double radius = 0.0;  // m
 
   std::size_t particle_count() const { return offsets.empty() ? 0 : offsets.size() - 1; }
   std::uint32_t begin(std::size_t i) const { return offsets[i]; }
@@ -40,8 +40,8 @@ class CellList {
   void build(const std::vector<Vec2>& positions, const std::vector<ParticleType>& types, double cell_size);
   // Fills `out` (its storage is reused between calls) with the neighbours within `radius`.
   // `radius` must not exceed the cell size given to build().
-  void find_neighbours(const std::vector<Vec2>& positions, const std::vector<ParticleType>& types,
-                       double radius, NeighbourList& out);
+  void find_neighbours(const std::vector<Vec2>& positions, const std::vector<ParticleType>& types, double radius,
+                       NeighbourList& out);
 
   double cell_size() const { return cell_size_; }
   int cells_x() const { return cells_x_; }
@@ -53,16 +53,16 @@ class CellList {
   Vec2 origin_ = Vec2::Zero();
   int cells_x_ = 0;
   int cells_y_ = 0;
-  std::vector<std::uint32_t> cell_start_;  // size cells + 1
-  std::vector<std::uint32_t> sorted_;      // particle indices sorted by cell, stable
-  std::vector<std::int64_t> particle_cell_;  // -1 for ghosts
-  std::vector<Vec2> sorted_positions_;       // positions[sorted_[k]], m
-  std::vector<std::uint32_t> fill_;          // counting-sort cursor per cell
+  std::vector<std::uint32_t> cell_start_;                 // size cells + 1
+  std::vector<std::uint32_t> sorted_;                     // particle indices sorted by cell, stable
+  std::vector<std::int64_t> particle_cell_;               // -1 for ghosts
+  std::vector<Vec2> sorted_positions_;                    // positions[sorted_[k]], m
+  std::vector<std::uint32_t> fill_;                       // counting-sort cursor per cell
   std::vector<std::vector<std::uint32_t>> thread_lists_;  // per-thread neighbour buffers
 };
 
-NeighbourList brute_force_neighbours(const std::vector<Vec2>& positions,
-                                     const std::vector<ParticleType>& types, double radius);
+NeighbourList brute_force_neighbours(const std::vector<Vec2>& positions, const std::vector<ParticleType>& types,
+                                     double radius);
 
 // Convenience: build a cell list with cell size = radius and return the neighbour list.
 NeighbourList find_neighbours(const std::vector<Vec2>& positions, const std::vector<ParticleType>& types,

@@ -32,7 +32,8 @@ class PointGrid {
     for (std::size_t c = 1; c < start_.size(); ++c) start_[c] += start_[c - 1];
     order_.resize(points_.size());
     std::vector<std::uint32_t> fill(start_.begin(), start_.end() - 1);
-    for (std::size_t k = 0; k < points_.size(); ++k) order_[fill[static_cast<std::size_t>(cell_of(points_[k]))]++] = static_cast<std::uint32_t>(k);
+    for (std::size_t k = 0; k < points_.size(); ++k)
+      order_[fill[static_cast<std::size_t>(cell_of(points_[k]))]++] = static_cast<std::uint32_t>(k);
   }
 
   const std::vector<Vec2>& points() const { return points_; }

@@ -41,11 +41,12 @@ class CflVelocityClamp final : public WallTreatment {
 
 void mps_lab_register_wall_treatment_cfl_velocity_clamp(mps_lab::WallTreatmentRegistry& registry) {
   using namespace mps_lab;
-  WallTreatmentInfo info{"cfl_velocity_clamp",
-                         "caps fluid speed at CFL l0/dt after the explicit update (MPS spec 6.1)",
-                         {number_parameter("cfl", 0.2, "", "Courant number of the cap, v_max = cfl l0 / dt").above(0.0)},
-                         10,
-                         [](const WallTreatmentSetup& setup) { return std::make_unique<CflVelocityClamp>(setup); }};
+  WallTreatmentInfo info{
+      "cfl_velocity_clamp",
+      "caps fluid speed at CFL l0/dt after the explicit update (MPS spec 6.1)",
+      {number_parameter("cfl", 0.2, "", "Courant number of the cap, v_max = cfl l0 / dt").above(0.0)},
+      10,
+      [](const WallTreatmentSetup& setup) { return std::make_unique<CflVelocityClamp>(setup); }};
   info.hooks = {WallHook::AfterExplicitVelocity};
   registry.add(std::move(info));
 }

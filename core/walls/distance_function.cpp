@@ -100,7 +100,8 @@ void mps_lab_register_wall_treatment_distance_function(mps_lab::WallTreatmentReg
                         "the boundary integral")
           .at_least(1)
           .at_most(4),
-      string_parameter("velocity", "no_slip", "wall velocity seen by the fluid: no_slip (0) or free_slip (mirror of u_i)")
+      string_parameter("velocity", "no_slip",
+                       "wall velocity seen by the fluid: no_slip (0) or free_slip (mirror of u_i)")
           .one_of({"no_slip", "free_slip"}),
   };
   info.parameters.push_back(crossing_parameter("none"));

@@ -9,9 +9,9 @@
 // to the particle itself. The wall is at rest (u_w = 0, no slip). No wall pressure is solved
 // for: the PPE keeps only fluid unknowns, the wall terms go to its right-hand side.
 #include "core/io/geometry.hpp"
+#include "core/io/scene.hpp"
 #include "core/search/point_grid.hpp"
 #include "core/walls/wall_geometry.hpp"
-#include "core/io/scene.hpp"
 #include "core/walls/wall_sample_model.hpp"
 #include "core/walls/wall_treatment.hpp"
 
@@ -20,8 +20,7 @@ namespace {
 
 class DummyLayers final : public WallSampleModel {
  public:
-  explicit DummyLayers(const WallTreatmentSetup& setup)
-      : WallSampleModel(setup), support_(0.0) {
+  explicit DummyLayers(const WallTreatmentSetup& setup) : WallSampleModel(setup), support_(0.0) {
     const ParticleSet lattice = build_particles(setup.scene, true);
     for (std::size_t k = 0; k < lattice.size(); ++k) {
       if (lattice.type[k] == ParticleType::Wall) wall_points_.push_back(lattice.position[k]);
@@ -63,7 +62,8 @@ void mps_lab_register_wall_treatment_dummy_layers(mps_lab::WallTreatmentRegistry
   WallTreatmentInfo info;
   info.name = "dummy_layers";
   info.description =
-      "fixed dummy wall layers carrying the fluid pressure extrapolated hydrostatically (MPS; Adami et al. 2012 for SPH)";
+      "fixed dummy wall layers carrying the fluid pressure extrapolated hydrostatically (MPS; Adami et al. 2012 for "
+      "SPH)";
   info.parameters.push_back(crossing_parameter("reflect"));
   declare_wall_sample_model(info);  // for every method that sums over wall samples (MethodInfo::wall_samples)
   info.create = [](const WallTreatmentSetup& setup) { return std::make_unique<DummyLayers>(setup); };

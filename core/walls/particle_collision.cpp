@@ -62,7 +62,7 @@ class ParticleCollision final : public WallTreatment {
   }
 
  private:
-  double distance_;     // m
+  double distance_;  // m
   double restitution_;
   std::vector<Vec2> before_;  // velocities before this step's collisions (reused storage)
 };
@@ -72,12 +72,13 @@ class ParticleCollision final : public WallTreatment {
 
 void mps_lab_register_wall_treatment_particle_collision(mps_lab::WallTreatmentRegistry& registry) {
   using namespace mps_lab;
-  WallTreatmentInfo info{"particle_collision",
-                         "damped reflection of approaching particle pairs closer than 0.5 l0 (MPS spec 6.4)",
-                         {number_parameter("distance", 0.5, "l0", "collision distance").above(0.0).at_most(2.0),
-                          number_parameter("restitution", 0.2, "", "coefficient of restitution e").at_least(0.0).at_most(1.0)},
-                         30,
-                         [](const WallTreatmentSetup& setup) { return std::make_unique<ParticleCollision>(setup); }};
+  WallTreatmentInfo info{
+      "particle_collision",
+      "damped reflection of approaching particle pairs closer than 0.5 l0 (MPS spec 6.4)",
+      {number_parameter("distance", 0.5, "l0", "collision distance").above(0.0).at_most(2.0),
+       number_parameter("restitution", 0.2, "", "coefficient of restitution e").at_least(0.0).at_most(1.0)},
+      30,
+      [](const WallTreatmentSetup& setup) { return std::make_unique<ParticleCollision>(setup); }};
   info.hooks = {WallHook::AfterNeighbourSearch};
   registry.add(std::move(info));
 }

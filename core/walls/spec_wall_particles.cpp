@@ -26,12 +26,14 @@ void mps_lab_register_wall_treatment_spec_wall_particles(mps_lab::WallTreatmentR
   using namespace mps_lab;
   WallTreatmentInfo info;
   info.name = "spec_wall_particles";
-  info.description = "wall particles in every sum, the first layer solved in the PPE (MPS spec 4, 8; Koshizuka & Oka 1996)";
-  info.parameters = {integer_parameter("pressure_layers", 1,
-                                       "wall layers (counted from the fluid) that carry PPE pressure; outer layers only "
-                                       "fill the number density")
-                         .at_least(0)
-                         .at_most(10)};
+  info.description =
+      "wall particles in every sum, the first layer solved in the PPE (MPS spec 4, 8; Koshizuka & Oka 1996)";
+  info.parameters = {
+      integer_parameter("pressure_layers", 1,
+                        "wall layers (counted from the fluid) that carry PPE pressure; outer layers only "
+                        "fill the number density")
+          .at_least(0)
+          .at_most(10)};
   info.role = WallTreatmentRole::Boundary;
   info.wall_particle_model = WallParticlePressure::SolvedInPpe;
   info.create = [](const WallTreatmentSetup& setup) { return std::make_unique<SpecWallParticles>(setup); };

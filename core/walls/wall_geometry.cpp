@@ -72,8 +72,8 @@ double WallGeometry::depth_inside(const Vec2& x) const {
   // outer face went over the crest and lies outside the tank, not in the wall.
   const double thickness = walls_.layers * 2.0 * half_spacing_;
   if (!past_open) {
-    for (const double d : {interior_.min.x() - x.x(), x.x() - interior_.max.x(), interior_.min.y() - x.y(),
-                           x.y() - interior_.max.y()}) {
+    for (const double d :
+         {interior_.min.x() - x.x(), x.x() - interior_.max.x(), interior_.min.y() - x.y(), x.y() - interior_.max.y()}) {
       if (d < thickness) depth = std::max(depth, d);
     }
   }

@@ -14,13 +14,13 @@
 #include <vector>
 
 #include "core/base/particles.hpp"
-#include "core/io/scene.hpp"
 #include "core/base/types.hpp"
+#include "core/io/scene.hpp"
 
 namespace mps_lab {
 
 struct WallSegment {
-  Vec2 a = Vec2::Zero();       // end points, m
+  Vec2 a = Vec2::Zero();  // end points, m
   Vec2 b = Vec2::Zero();
   Vec2 normal = Vec2::Zero();  // unit, pointing into the fluid
   int body = -1;               // -1: the tank; k >= 0: walls.obstacles[k]
@@ -54,7 +54,7 @@ class WallGeometry {
   std::vector<WallSegment> segments_;
   TankWalls walls_;
   Box domain_;
-  Box interior_;               // the tank's surfaces; open sides extend to infinity
+  Box interior_;                // the tank's surfaces; open sides extend to infinity
   std::vector<Box> obstacles_;  // surface boxes (the obstacle grown by l0/2)
   double half_spacing_ = 0.0;
 };

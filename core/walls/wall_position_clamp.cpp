@@ -81,8 +81,8 @@ class WallPositionClamp final : public WallTreatment {
   double restitution_;
   TankWalls walls_;
   std::vector<Box> obstacles_;  // obstacle boxes grown by the offset, m
-  Vec2 low_;   // m
-  Vec2 high_;  // m
+  Vec2 low_;                    // m
+  Vec2 high_;                   // m
 };
 
 }  // namespace
@@ -90,13 +90,16 @@ class WallPositionClamp final : public WallTreatment {
 
 void mps_lab_register_wall_treatment_wall_position_clamp(mps_lab::WallTreatmentRegistry& registry) {
   using namespace mps_lab;
-  WallTreatmentInfo info{"wall_position_clamp",
-                         "puts fluid particles past a wall surface back on it, normal velocity reversed and damped "
-                         "(MPS spec 6.3)",
-                         {number_parameter("offset", 0.5, "l0", "wall surface distance from the first wall layer").at_least(0.0).at_most(2.0),
-                          number_parameter("restitution", 0.2, "", "WALL_RESTITUTION: v_n <- -e v_n").at_least(0.0).at_most(1.0)},
-                         10,
-                         [](const WallTreatmentSetup& setup) { return std::make_unique<WallPositionClamp>(setup); }};
+  WallTreatmentInfo info{
+      "wall_position_clamp",
+      "puts fluid particles past a wall surface back on it, normal velocity reversed and damped "
+      "(MPS spec 6.3)",
+      {number_parameter("offset", 0.5, "l0", "wall surface distance from the first wall layer")
+           .at_least(0.0)
+           .at_most(2.0),
+       number_parameter("restitution", 0.2, "", "WALL_RESTITUTION: v_n <- -e v_n").at_least(0.0).at_most(1.0)},
+      10,
+      [](const WallTreatmentSetup& setup) { return std::make_unique<WallPositionClamp>(setup); }};
   info.hooks = {WallHook::AfterExplicitPosition, WallHook::AfterCorrection};
   // A method whose only position update ends the step (advection, then after_correction) has no
   // explicit position update to clamp after.

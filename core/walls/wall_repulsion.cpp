@@ -59,14 +59,15 @@ class WallRepulsion final : public WallTreatment {
 
 void mps_lab_register_wall_treatment_wall_repulsion(mps_lab::WallTreatmentRegistry& registry) {
   using namespace mps_lab;
-  WallTreatmentInfo info{"wall_repulsion",
-                         "one-way push of fluid particles closer than l0 to a wall particle (MPS spec 6.2)",
-                         {number_parameter("distance", 1.0, "l0", "range r_rep of the repulsion").above(0.0).at_most(2.0),
-                          number_parameter("coefficient_factor", 0.5, "",
-                                           "C = factor |g| / l0 (spec: 0.5, i.e. C = 196.2 at l0 = 0.025 m)")
-                              .at_least(0.0)},
-                         20,
-                         [](const WallTreatmentSetup& setup) { return std::make_unique<WallRepulsion>(setup); }};
+  WallTreatmentInfo info{
+      "wall_repulsion",
+      "one-way push of fluid particles closer than l0 to a wall particle (MPS spec 6.2)",
+      {number_parameter("distance", 1.0, "l0", "range r_rep of the repulsion").above(0.0).at_most(2.0),
+       number_parameter("coefficient_factor", 0.5, "",
+                        "C = factor |g| / l0 (spec: 0.5, i.e. C = 196.2 at l0 = 0.025 m)")
+           .at_least(0.0)},
+      20,
+      [](const WallTreatmentSetup& setup) { return std::make_unique<WallRepulsion>(setup); }};
   info.hooks = {WallHook::AfterNeighbourSearch};
   registry.add(std::move(info));
 }

@@ -30,10 +30,10 @@ namespace mps_lab {
 using Mat2 = Eigen::Matrix2d;
 
 struct WallSample {
-  Vec2 position = Vec2::Zero();               // x_w, m
-  Mat2 velocity_map = Mat2::Zero();           // u_w = velocity_map * u_source
-  std::uint32_t source = 0;                   // the particle whose pressure and velocity it carries
-  double volume = 1.0;                        // V_w / l0^2
+  Vec2 position = Vec2::Zero();      // x_w, m
+  Mat2 velocity_map = Mat2::Zero();  // u_w = velocity_map * u_source
+  std::uint32_t source = 0;          // the particle whose pressure and velocity it carries
+  double volume = 1.0;               // V_w / l0^2
 };
 
 // Compressed rows as NeighbourList: the samples of particle i are
@@ -59,8 +59,8 @@ inline double sample_pressure(const WallSample& sample, const std::vector<double
 }
 
 // The hydrostatic part rho0 g . (x_w - x_s) alone, Pa: what the PPE moves to its right-hand side.
-inline double sample_pressure_offset(const WallSample& sample, const std::vector<Vec2>& position,
-                                     double rest_density, const Vec2& gravity) {
+inline double sample_pressure_offset(const WallSample& sample, const std::vector<Vec2>& position, double rest_density,
+                                     const Vec2& gravity) {
   return rest_density * gravity.dot(sample.position - position[sample.source]);
 }
 

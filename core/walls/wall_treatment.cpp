@@ -10,10 +10,14 @@ namespace mps_lab {
 
 const char* wall_hook_name(WallHook hook) {
   switch (hook) {
-    case WallHook::AfterExplicitVelocity: return "after_explicit_velocity";
-    case WallHook::AfterExplicitPosition: return "after_explicit_position";
-    case WallHook::AfterNeighbourSearch: return "after_neighbour_search";
-    case WallHook::AfterCorrection: return "after_correction";
+    case WallHook::AfterExplicitVelocity:
+      return "after_explicit_velocity";
+    case WallHook::AfterExplicitPosition:
+      return "after_explicit_position";
+    case WallHook::AfterNeighbourSearch:
+      return "after_neighbour_search";
+    case WallHook::AfterCorrection:
+      return "after_correction";
   }
   return "unknown hook";
 }
@@ -29,9 +33,12 @@ std::string WallHooks::names() const {
 
 const char* wall_particle_pressure_name(WallParticlePressure model) {
   switch (model) {
-    case WallParticlePressure::SolvedInPpe: return "solved_in_ppe";
-    case WallParticlePressure::AdamiExtrapolated: return "adami_extrapolated";
-    case WallParticlePressure::AkinciMirrored: return "akinci_mirrored";
+    case WallParticlePressure::SolvedInPpe:
+      return "solved_in_ppe";
+    case WallParticlePressure::AdamiExtrapolated:
+      return "adami_extrapolated";
+    case WallParticlePressure::AkinciMirrored:
+      return "akinci_mirrored";
   }
   return "unknown wall-particle model";
 }
@@ -83,9 +90,8 @@ WallTreatmentSet::WallTreatmentSet(const std::vector<WallTreatmentChoice>& choic
   for (const auto& choice : choices) {
     if (choice.enabled) enabled.push_back(&choice);
   }
-  std::stable_sort(enabled.begin(), enabled.end(), [](const auto* a, const auto* b) {
-    return a->info->order < b->info->order;
-  });
+  std::stable_sort(enabled.begin(), enabled.end(),
+                   [](const auto* a, const auto* b) { return a->info->order < b->info->order; });
   for (const auto* choice : enabled) {
     const WallTreatmentInfo& info = *choice->info;
     const WallHooks missing = info.hooks.without(info.optional_hooks).without(called_);
@@ -101,7 +107,8 @@ WallTreatmentSet::WallTreatmentSet(const std::vector<WallTreatmentChoice>& choic
       wall_particles_ = info.wall_particles;
       wall_particle_model_ = info.wall_particles ? dynamic_cast<const WallParticleModel*>(boundary_) : nullptr;
       if (info.wall_particles && wall_particle_model_ == nullptr) {
-        throw std::logic_error("wall treatment '" + info.name + "' declares wall particles but is no WallParticleModel");
+        throw std::logic_error("wall treatment '" + info.name +
+                               "' declares wall particles but is no WallParticleModel");
       }
     }
   }

@@ -26,10 +26,10 @@
 #include <string>
 #include <vector>
 
-#include "core/search/neighbour_search.hpp"
 #include "core/base/parameters.hpp"
 #include "core/base/particles.hpp"
 #include "core/run/profile.hpp"
+#include "core/search/neighbour_search.hpp"
 #include "core/walls/wall_samples.hpp"
 
 namespace mps_lab {
@@ -152,8 +152,8 @@ struct WallTreatmentSetup {
 
 struct WallTreatmentInfo {
   std::string name;
-  std::string description;                  // one line
-  std::vector<ParameterSpec> parameters;    // "enabled" is added by the registry
+  std::string description;                // one line
+  std::vector<ParameterSpec> parameters;  // "enabled" is added by the registry
   // Order among treatments acting at the same hook: lower runs first.
   int order = 0;
   std::function<std::unique_ptr<WallTreatment>(const WallTreatmentSetup&)> create;
@@ -200,8 +200,8 @@ class WallTreatmentSet {
   // (core/run/profile.hpp) when it is not null. `called`: the hooks the method declares
   // (MethodInfo::wall_hooks); a treatment that needs another one, or a call of a hook not
   // declared, is a std::logic_error.
-  WallTreatmentSet(const std::vector<WallTreatmentChoice>& choices, const Scene& scene,
-                   PhaseTimers* timers = nullptr, WallHooks called = WallHooks::all());
+  WallTreatmentSet(const std::vector<WallTreatmentChoice>& choices, const Scene& scene, PhaseTimers* timers = nullptr,
+                   WallHooks called = WallHooks::all());
   void after_explicit_velocity(WallContext& context);
   void after_explicit_position(WallContext& context);
   void after_neighbour_search(WallContext& context);

@@ -25,13 +25,13 @@
 #include <stdexcept>
 #include <string>
 
-#include "core/io/checkpoint.hpp"
 #include "core/base/error.hpp"
+#include "core/io/checkpoint.hpp"
 #include "core/io/geometry.hpp"
-#include "core/run/method.hpp"
 #include "core/io/output.hpp"
-#include "core/run/profile.hpp"
 #include "core/io/scene.hpp"
+#include "core/run/method.hpp"
+#include "core/run/profile.hpp"
 #include "core/run/time_step.hpp"
 #include "methods/dfsph/dfsph_operators.hpp"
 #include "methods/dfsph/dfsph_solvers.hpp"
@@ -185,14 +185,14 @@ class DfsphMethod final : public Method {
     WallContext context{particles, &neighbours_, dt, scene_};
     find_neighbourhoods(particles, context);  // 1.
     const SphSystem sph = system();
-    const double compression = densities_and_factors(particles, sph);  // 2.
+    const double compression = densities_and_factors(particles, sph);       // 2.
     const SolverOutcome divergence = solve_divergence(particles, sph, dt);  // 3.
-    add_non_pressure_forces(particles, sph);  // 4.
+    add_non_pressure_forces(particles, sph);                                // 4.
     // 5. the time step dt was chosen by time_step(); 6. predicted velocities
     predict_velocities(particles, dt);
     walls_.after_explicit_velocity(context);
     const SolverOutcome pressure = solve_density(particles, sph, dt);  // 7.
-    advect(particles, sph, dt, context);  // 8.
+    advect(particles, sph, dt, context);                               // 8.
     clock_.advance(dt);
     return step_report(divergence, pressure, compression, context);
   }
@@ -207,27 +207,26 @@ class DfsphMethod final : public Method {
       volume_min = std::min(volume_min, psi / rest_density_);
       volume_max = std::max(volume_max, psi / rest_density_);
     }
-    nlohmann::json summary = {{"kernel", kernel_.kind() == SphKernelKind::CubicSpline ? "cubic_spline" : "wendland_c2"},
-                              {"kernel_support_over_l0", kernel_.support() / l0},
-                              {"particle_mass", particle_mass_},
-                              {"lattice_density_over_rho0",
-                               particle_mass_ * lattice_kernel_sum(kernel_, l0) / rest_density_},
-                              {"lattice_neighbours", full_neighbour_count_},
-                              {"divergence_min_neighbours", divergence_min_neighbours_},
-                              {"boundary_model", walls_.boundary_name()},
-                              {"time_step", clock_.summary(time_step_settings_)},
-                              {"density_solver", density_totals_.to_json()},
-                              {"divergence_solver", divergence_totals_.to_json()},
-                              {"wall_treatments", walls_.names()},
-                              {"ghosts_created", ghosts_}};
+    nlohmann::json summary = {
+        {"kernel", kernel_.kind() == SphKernelKind::CubicSpline ? "cubic_spline" : "wendland_c2"},
+        {"kernel_support_over_l0", kernel_.support() / l0},
+        {"particle_mass", particle_mass_},
+        {"lattice_density_over_rho0", particle_mass_ * lattice_kernel_sum(kernel_, l0) / rest_density_},
+        {"lattice_neighbours", full_neighbour_count_},
+        {"divergence_min_neighbours", divergence_min_neighbours_},
+        {"boundary_model", walls_.boundary_name()},
+        {"time_step", clock_.summary(time_step_settings_)},
+        {"density_solver", density_totals_.to_json()},
+        {"divergence_solver", divergence_totals_.to_json()},
+        {"wall_treatments", walls_.names()},
+        {"ghosts_created", ghosts_}};
     if (walls_.wall_particles()) {
       summary["boundary_particles"] = boundary_particles;
       summary["boundary_volume"] = boundary_volume_ == BoundaryVolume::Akinci ? "akinci" : "lattice";
       summary["boundary_volume_over_l0_squared"] = {{"min", boundary_particles > 0 ? volume_min / (l0 * l0) : 0.0},
                                                     {"max", volume_max / (l0 * l0)}};
     } else {
-      summary["wall_samples"] = {{"hydrostatic_offset", sample_hydrostatic_},
-                                 {"last_step", samples_.samples.size()}};
+      summary["wall_samples"] = {{"hydrostatic_offset", sample_hydrostatic_}, {"last_step", samples_.samples.size()}};
     }
     return summary;
   }
@@ -258,8 +257,8 @@ class DfsphMethod final : public Method {
     density_totals_.restore(in);
     divergence_totals_.restore(in);
     ghosts_ = in.read_size();
-    for (const std::size_t size : {boundary_mass_.size(), density_stiffness_.size(), divergence_stiffness_.size(),
-                                   acceleration_.size()}) {
+    for (const std::size_t size :
+         {boundary_mass_.size(), density_stiffness_.size(), divergence_stiffness_.size(), acceleration_.size()}) {
       if (size != n) {
         in.fail("dfsph state for " + std::to_string(size) + " particles, the scene has " + std::to_string(n));
       }
@@ -443,8 +442,7 @@ class DfsphMethod final : public Method {
     return fluid > 0 ? sum / static_cast<double>(fluid) : 0.0;
   }
 
-  static std::string convergence_note(const SolverOutcome& outcome, const SolverSettings& settings,
-                                      const char* name) {
+  static std::string convergence_note(const SolverOutcome& outcome, const SolverSettings& settings, const char* name) {
     if (outcome.converged) return "";
     return std::string(name) + " solver error " + format_double(outcome.error) + " > tolerance " +
            format_double(settings.tolerance) + " after " + std::to_string(outcome.iterations) + " iterations; ";
@@ -455,8 +453,8 @@ class DfsphMethod final : public Method {
   PhaseTimers* timers_;  // core/run/profile.hpp; null outside a run
   PhaseTimers::Id search_phase_, operators_phase_, divergence_phase_, density_phase_, integration_phase_;
   SphKernel kernel_;
-  double rest_density_ = 1000.0;   // kg/m^3
-  double particle_mass_ = 0.0;     // kg/m
+  double rest_density_ = 1000.0;         // kg/m^3
+  double particle_mass_ = 0.0;           // kg/m
   TimeStepSettings time_step_settings_;  // core/run/time_step.hpp
   SolverSettings density_settings_, divergence_settings_;
   bool divergence_enabled_ = true;
@@ -469,7 +467,7 @@ class DfsphMethod final : public Method {
   CellList cells_;
   NeighbourList neighbours_;
   KernelCache cache_;
-  WallSampleList samples_;     // wall samples of this step (boundary models without wall particles)
+  WallSampleList samples_;  // wall samples of this step (boundary models without wall particles)
   SampleCache sample_cache_;
   std::vector<double> boundary_mass_;         // Psi_b, kg/m
   std::vector<double> density_stiffness_;     // kappa_i of the density solver, m^2/s^2
@@ -493,7 +491,8 @@ void mps_lab_register_method_dfsph(mps_lab::MethodRegistry& registry) {
       "Divergence-Free SPH (Bender & Koschier 2015/2017): divergence and constant-density solvers, Akinci boundaries "
       "or wall samples";
   info.parameters = {
-      string_parameter("kernel", "cubic_spline", "SPH kernel (BK17: cubic spline)").one_of({"cubic_spline", "wendland_c2"}),
+      string_parameter("kernel", "cubic_spline", "SPH kernel (BK17: cubic spline)")
+          .one_of({"cubic_spline", "wendland_c2"}),
       number_parameter("kernel_support", 2.0, "l0",
                        "kernel support radius (where W = 0): BK17/SPlisHSPlasH 4 r = 2 l0, i.e. h = l0")
           .above(1.0)
@@ -506,7 +505,8 @@ void mps_lab_register_method_dfsph(mps_lab::MethodRegistry& registry) {
           .at_least(0)
           .at_most(100000),
       integer_parameter("density_max_iterations", 100, "density solver iteration cap").at_least(1).at_most(100000),
-      boolean_parameter("divergence_solver", true, "run the divergence-free solver (false: constant-density solver only)"),
+      boolean_parameter("divergence_solver", true,
+                        "run the divergence-free solver (false: constant-density solver only)"),
       number_parameter("divergence_tolerance", 1.0e-3, "",
                        "divergence solver stops at dt mean max(D rho/Dt, 0)/rho0 below this (BK17: 0.1 %)")
           .above(0.0)
@@ -514,14 +514,17 @@ void mps_lab_register_method_dfsph(mps_lab::MethodRegistry& registry) {
       integer_parameter("divergence_min_iterations", 1, "divergence solver: at least this many iterations (BK17: 1)")
           .at_least(0)
           .at_most(100000),
-      integer_parameter("divergence_max_iterations", 100, "divergence solver iteration cap").at_least(1).at_most(100000),
+      integer_parameter("divergence_max_iterations", 100, "divergence solver iteration cap")
+          .at_least(1)
+          .at_most(100000),
       number_parameter("divergence_neighbour_fraction", 0.875, "",
                        "no divergence correction for particles with fewer neighbours than this fraction of the full "
                        "lattice count (SPlisHSPlasH 2-D: 7 of 8)")
           .at_least(0.0)
           .at_most(1.0),
-      number_parameter("warm_start_fraction", 0.5, "",
-                       "share of the last step's stiffness both solvers start from (SPlisHSPlasH 0.5; BK17 text: the sum)")
+      number_parameter(
+          "warm_start_fraction", 0.5, "",
+          "share of the last step's stiffness both solvers start from (SPlisHSPlasH 0.5; BK17 text: the sum)")
           .at_least(0.0)
           .at_most(1.0),
       boolean_parameter("wall_sample_hydrostatic", false,

@@ -107,9 +107,9 @@ BoundaryVolume boundary_volume_from_name(const std::string& name) {
   throw std::invalid_argument("unknown boundary volume rule '" + name + "' (expected akinci or lattice)");
 }
 
-void compute_boundary_masses(const ParticleSet& particles, const NeighbourList& neighbours,
-                             const KernelCache& kernel, int wall_layers, double rest_density,
-                             BoundaryVolume rule, double lattice_volume, std::vector<double>& boundary_mass) {
+void compute_boundary_masses(const ParticleSet& particles, const NeighbourList& neighbours, const KernelCache& kernel,
+                             int wall_layers, double rest_density, BoundaryVolume rule, double lattice_volume,
+                             std::vector<double>& boundary_mass) {
   const auto uses = [&](std::size_t j) {
     return particles.type[j] == ParticleType::Wall && particles.wall_layer[j] <= wall_layers;
   };
@@ -204,8 +204,9 @@ void compute_dfsph_factors(const ParticleSet& particles, const SphSystem& system
         for_each_neighbour(samples, i, [&](std::uint32_t q, const WallSample& wall) {
           const std::uint32_t j = wall.source;
           if (j == static_cast<std::uint32_t>(i)) return;
-          const bool listed =
-              any_neighbour(list, i, [&](std::uint32_t neighbour) { return neighbour == j && particles.type[j] == ParticleType::Fluid; });
+          const bool listed = any_neighbour(list, i, [&](std::uint32_t neighbour) {
+            return neighbour == j && particles.type[j] == ParticleType::Fluid;
+          });
           if (!listed) squared_sum += w.reaction[q].squaredNorm();
         });
       }
@@ -246,9 +247,8 @@ void compute_density_change_rate(const ParticleSet& particles, const SphSystem& 
   }
 }
 
-void add_viscous_acceleration(const ParticleSet& particles, const SphSystem& system,
-                              const std::vector<double>& density, double kinematic_viscosity, double support,
-                              std::vector<Vec2>& acceleration) {
+void add_viscous_acceleration(const ParticleSet& particles, const SphSystem& system, const std::vector<double>& density,
+                              double kinematic_viscosity, double support, std::vector<Vec2>& acceleration) {
   const auto& list = system.neighbours;
   const double m = system.particle_mass;
   const double rho0 = system.rest_density;

@@ -28,9 +28,9 @@
 #include <string>
 #include <vector>
 
-#include "core/search/neighbour_search.hpp"
 #include "core/base/particles.hpp"
 #include "core/kernels/sph_kernels.hpp"
+#include "core/search/neighbour_search.hpp"
 #include "core/walls/wall_samples.hpp"
 
 namespace mps_lab::dfsph {
@@ -46,9 +46,9 @@ constexpr std::ptrdiff_t kThreadedLoopMinimum = 1024;
 // once per step at the positions of the search and reused by every operator and solver
 // iteration of the step.
 struct KernelCache {
-  std::vector<double> value;     // W_ij, 1/m^2
-  std::vector<Vec2> gradient;    // grad_i W_ij, 1/m^3
-  double self_value = 0.0;       // W(0), 1/m^2
+  std::vector<double> value;   // W_ij, 1/m^2
+  std::vector<Vec2> gradient;  // grad_i W_ij, 1/m^3
+  double self_value = 0.0;     // W(0), 1/m^2
   // c_ij, the coefficient of the pair in D rho_i/Dt = sum_j c_ij . (v_i - v_j) ([BK17] eq. (9))
   // and in the pressure correction (eqs. (7)-(8)): m grad W_ij for a fluid neighbour j,
   // Psi_b grad W_ib for a boundary particle b, 0 for an inert neighbour; on the rows of fluid
@@ -63,11 +63,11 @@ struct KernelCache {
 // Psi_w (v_i - M_w v_s) . grad W_iw, i.e. d(D rho_i/Dt)/dv_i gets `own` and, for s != i,
 // d(D rho_i/Dt)/dv_s gets -`reaction`.
 struct SampleCache {
-  std::vector<double> value;     // W_iw, 1/m^2
-  std::vector<Vec2> gradient;    // grad_i W_iw, 1/m^3
-  std::vector<double> mass;      // Psi_w = rho0 V_w l0^2, kg/m
-  std::vector<Vec2> own;         // Psi_w (I - M_w)^T grad W_iw for s = i, else Psi_w grad W_iw; kg/m^4
-  std::vector<Vec2> reaction;    // Psi_w M_w^T grad W_iw for s != i, else 0; kg/m^4
+  std::vector<double> value;         // W_iw, 1/m^2
+  std::vector<Vec2> gradient;        // grad_i W_iw, 1/m^3
+  std::vector<double> mass;          // Psi_w = rho0 V_w l0^2, kg/m
+  std::vector<Vec2> own;             // Psi_w (I - M_w)^T grad W_iw for s = i, else Psi_w grad W_iw; kg/m^4
+  std::vector<Vec2> reaction;        // Psi_w M_w^T grad W_iw for s != i, else 0; kg/m^4
   std::vector<std::uint32_t> owner;  // i
   // The samples whose source is j and whose owner is not j: by_source[by_source_offsets[j] ..
   // by_source_offsets[j + 1]) (indices into the sample list, in owner order).
@@ -117,9 +117,9 @@ BoundaryVolume boundary_volume_from_name(const std::string& name);  // "akinci" 
 // Psi_b = rho0 V_b ([AIA12]) for the wall particles of layers 1..`wall_layers` (layer 1
 // faces the fluid), 0 for every other particle. `lattice_volume` (m^2) is V_b of the Lattice
 // rule (l0^2).
-void compute_boundary_masses(const ParticleSet& particles, const NeighbourList& neighbours,
-                             const KernelCache& kernel, int wall_layers, double rest_density,
-                             BoundaryVolume rule, double lattice_volume, std::vector<double>& boundary_mass);
+void compute_boundary_masses(const ParticleSet& particles, const NeighbourList& neighbours, const KernelCache& kernel,
+                             int wall_layers, double rest_density, BoundaryVolume rule, double lattice_volume,
+                             std::vector<double>& boundary_mass);
 
 // The SPH density sum with [AIA12]'s boundary term: rho_i = sum_j m W_ij (i included) + sum_b Psi_b W_ib
 // (+ sum_w Psi_w W_iw over wall samples). Fluid particles only; others get 0.
@@ -141,9 +141,8 @@ void compute_density_change_rate(const ParticleSet& particles, const SphSystem& 
 // r_ij = x_i - x_j, eta = 0.1 h (h = support / 2). Boundary neighbours count with mass
 // Psi_b, density rho0 and velocity 0 (no-slip walls); wall samples with mass Psi_w, density
 // rho0 and velocity M_w v_s.
-void add_viscous_acceleration(const ParticleSet& particles, const SphSystem& system,
-                              const std::vector<double>& density, double kinematic_viscosity, double support,
-                              std::vector<Vec2>& acceleration);
+void add_viscous_acceleration(const ParticleSet& particles, const SphSystem& system, const std::vector<double>& density,
+                              double kinematic_viscosity, double support, std::vector<Vec2>& acceleration);
 
 // Pressure of the boundary particles, for output: the pressure force the fluid exerts on
 // boundary particle b (the reaction to the boundary term of the solvers' pressure correction,

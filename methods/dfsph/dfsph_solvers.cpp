@@ -50,15 +50,15 @@ const Vec2* prepare(const ParticleSet& particles, const SphSystem& system, std::
 
 // The arrays one solve iterates over (raw pointers: the loops below are the solver's hot path).
 struct IterationArrays {
-  const Vec2* coefficient;           // c_ij, kg/m^4
-  const std::uint32_t* offsets;      // the neighbour list's rows
-  const std::uint32_t* neighbour;    // and its indices
-  const std::uint32_t* fluid;        // the fluid particles
-  Vec2* velocity;                    // the solver's velocities, m/s
-  double* s;                         // stiffness over density
-  double* increment;                 // pending stiffness increments, m^2/s^2
-  double* block_error;               // per block of kErrorBlock fluid particles
-  const WallSampleList* samples;     // null without wall samples
+  const Vec2* coefficient;         // c_ij, kg/m^4
+  const std::uint32_t* offsets;    // the neighbour list's rows
+  const std::uint32_t* neighbour;  // and its indices
+  const std::uint32_t* fluid;      // the fluid particles
+  Vec2* velocity;                  // the solver's velocities, m/s
+  double* s;                       // stiffness over density
+  double* increment;               // pending stiffness increments, m^2/s^2
+  double* block_error;             // per block of kErrorBlock fluid particles
+  const WallSampleList* samples;   // null without wall samples
   const SampleCache* sample;
   std::ptrdiff_t fluid_count;
   std::ptrdiff_t blocks;
@@ -122,13 +122,15 @@ void correct(const IterationArrays& a, double dt, std::vector<double>& stiffness
       stiffness[i] += a.increment[i];
       const double s_i = s[i];
       // sum (s_i + s_j) c_ij: (1/rho) grad p, m/s^2
-      Vec2 gradient = pair_sum(a, i, [&](std::uint32_t k) -> Vec2 { return (s_i + s[a.neighbour[k]]) * a.coefficient[k]; });
+      Vec2 gradient =
+          pair_sum(a, i, [&](std::uint32_t k) -> Vec2 { return (s_i + s[a.neighbour[k]]) * a.coefficient[k]; });
       if (a.samples != nullptr) {
         // The constraint force of the samples: -s_i G_ii (for a sample at rest Psi_w s_i grad W_iw,
         // [AIA12]'s mirroring), and the reaction of every constraint k whose samples move with i
         // (images of i seen by k): -s_k G_ki = +s_k Psi M^T grad W_kw.
         const SampleCache* sample = a.sample;
-        for_each_neighbour(*a.samples, i, [&](std::uint32_t q, const WallSample&) { gradient += s_i * sample->own[q]; });
+        for_each_neighbour(*a.samples, i,
+                           [&](std::uint32_t q, const WallSample&) { gradient += s_i * sample->own[q]; });
         for (std::uint32_t q = sample->by_source_offsets[i]; q < sample->by_source_offsets[i + 1]; ++q) {
           const std::uint32_t kw = sample->by_source[q];
           gradient -= s[sample->owner[kw]] * sample->reaction[kw];
@@ -217,7 +219,8 @@ SolverOutcome iterate(ParticleSet& particles, const SphSystem& system, const std
     }
     const double initial_error = error;
     long long iterations = 0;  // every thread runs the same loop on the same error
-    while (iterations < settings.max_iterations && (iterations < settings.min_iterations || error > settings.tolerance)) {
+    while (iterations < settings.max_iterations &&
+           (iterations < settings.min_iterations || error > settings.tolerance)) {
       correct(arrays, dt, stiffness);
       error = predict(arrays, density, w, settle);
       ++iterations;
@@ -239,8 +242,8 @@ SolverOutcome iterate(ParticleSet& particles, const SphSystem& system, const std
 }  // namespace
 
 SolverOutcome correct_divergence_error(ParticleSet& particles, const SphSystem& system,
-                                       const std::vector<double>& density, const std::vector<double>& alpha,
-                                       double dt, const SolverSettings& settings, std::uint32_t min_neighbours,
+                                       const std::vector<double>& density, const std::vector<double>& alpha, double dt,
+                                       const SolverSettings& settings, std::uint32_t min_neighbours,
                                        std::vector<double>& stiffness, SolverWorkspace& workspace) {
   count_active_neighbours(particles, system, workspace.neighbour_counts);
   const std::vector<double>& counts = workspace.neighbour_counts;
@@ -255,10 +258,9 @@ SolverOutcome correct_divergence_error(ParticleSet& particles, const SphSystem& 
   return iterate(particles, system, density, dt, settings, stiffness, workspace, settle);
 }
 
-SolverOutcome correct_density_error(ParticleSet& particles, const SphSystem& system,
-                                    const std::vector<double>& density, const std::vector<double>& alpha, double dt,
-                                    const SolverSettings& settings, std::vector<double>& stiffness,
-                                    SolverWorkspace& workspace) {
+SolverOutcome correct_density_error(ParticleSet& particles, const SphSystem& system, const std::vector<double>& density,
+                                    const std::vector<double>& alpha, double dt, const SolverSettings& settings,
+                                    std::vector<double>& stiffness, SolverWorkspace& workspace) {
   const double rho0 = system.rest_density;
   const double inverse_dt2 = 1.0 / (dt * dt);
   const auto settle = [&](std::uint32_t i, double change_rate, double& relative) {

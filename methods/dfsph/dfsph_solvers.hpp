@@ -31,7 +31,7 @@
 namespace mps_lab::dfsph {
 
 struct SolverSettings {
-  double tolerance = 1e-4;          // relative, see above
+  double tolerance = 1e-4;  // relative, see above
   long long min_iterations = 2;
   long long max_iterations = 100;
   double warm_start_fraction = 0.5;  // share of the last step's stiffness applied first (0: cold start)
@@ -62,8 +62,8 @@ struct SolverWorkspace {
 // corrected (their rate counts as 0; the authors' "particle deficiency" rule).
 // `stiffness` holds the last step's total kappa^v on entry (warm start) and this step's on exit.
 SolverOutcome correct_divergence_error(ParticleSet& particles, const SphSystem& system,
-                                       const std::vector<double>& density, const std::vector<double>& alpha,
-                                       double dt, const SolverSettings& settings, std::uint32_t min_neighbours,
+                                       const std::vector<double>& density, const std::vector<double>& alpha, double dt,
+                                       const SolverSettings& settings, std::uint32_t min_neighbours,
                                        std::vector<double>& stiffness, SolverWorkspace& workspace);
 
 // Algorithm 3 of [BK17] (§3.3): corrects the predicted velocities v* so that the predicted
@@ -71,9 +71,8 @@ SolverOutcome correct_divergence_error(ParticleSet& particles, const SphSystem& 
 //   kappa_i = (rho*_i - rho0) / dt^2 alpha_i        ([BK17] eq. (12), m^2/s^2).
 // `stiffness` holds the last step's total kappa on entry (warm start) and this step's on exit;
 // kappa_i rho_i is the pressure (Pa) this solver applied.
-SolverOutcome correct_density_error(ParticleSet& particles, const SphSystem& system,
-                                    const std::vector<double>& density, const std::vector<double>& alpha, double dt,
-                                    const SolverSettings& settings, std::vector<double>& stiffness,
-                                    SolverWorkspace& workspace);
+SolverOutcome correct_density_error(ParticleSet& particles, const SphSystem& system, const std::vector<double>& density,
+                                    const std::vector<double>& alpha, double dt, const SolverSettings& settings,
+                                    std::vector<double>& stiffness, SolverWorkspace& workspace);
 
 }  // namespace mps_lab::dfsph

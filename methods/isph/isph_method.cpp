@@ -19,13 +19,13 @@
 #include <cmath>
 #include <memory>
 
-#include "core/search/for_each_neighbour.hpp"
 #include "core/io/checkpoint.hpp"
 #include "core/io/geometry.hpp"
-#include "core/run/method.hpp"
 #include "core/io/output.hpp"
 #include "core/io/scene.hpp"
+#include "core/run/method.hpp"
 #include "core/run/time_step.hpp"
+#include "core/search/for_each_neighbour.hpp"
 #include "methods/isph/isph_operators.hpp"
 #include "methods/isph/isph_pressure.hpp"
 
@@ -97,8 +97,8 @@ class IsphMethod final : public Method {
     // "auto": AMG from amg_min_fluid_particles on (docs/performance.md: at 741 fluid particles
     // the diagonal preconditioner is 1.3x faster, at 4851 AMG is 1.5x faster), decided once per
     // run from the initial particles, so a restored checkpoint decides the same.
-    settings_.preconditioner = choose_preconditioner(preconditioner_choice_, particles.count(ParticleType::Fluid),
-                                                     amg_min_fluid_particles_);
+    settings_.preconditioner =
+        choose_preconditioner(preconditioner_choice_, particles.count(ParticleType::Fluid), amg_min_fluid_particles_);
     acceleration_.assign(n, Vec2::Zero());
     predicted_velocity_.assign(n, Vec2::Zero());
     source_.assign(n, 0.0);
@@ -115,7 +115,8 @@ class IsphMethod final : public Method {
     if (!time_step_settings_.cfl) return scene_.time.time_step;
     double max_speed2 = 0.0;
     for (std::size_t i = 0; i < particles.size(); ++i) {
-      if (particles.type[i] == ParticleType::Fluid) max_speed2 = std::max(max_speed2, particles.velocity[i].squaredNorm());
+      if (particles.type[i] == ParticleType::Fluid)
+        max_speed2 = std::max(max_speed2, particles.velocity[i].squaredNorm());
     }
     const double gained = clock_.steps() > 0 ? scene_.physics.gravity.norm() * clock_.last() : 0.0;
     return clock_.next(time_step_settings_, std::sqrt(max_speed2) + gained, scene_.particle_spacing,
@@ -145,19 +146,19 @@ class IsphMethod final : public Method {
 
   nlohmann::json summary() const override {
     const double l0 = scene_.particle_spacing;
-    return {
-        {"kernel", kernel_.kind() == SphKernelKind::CubicSpline ? "cubic_spline" : "wendland_c2"},
-        {"support_over_l0", kernel_.support() / l0},
-        {"particle_mass", mass_},
-        {"nominal_mass_rho0_l0_squared", rest_density_ * l0 * l0},
-        {"wall_treatments", walls_.names()},
-        {"boundary_model", walls_.boundary_name()},
-        {"preconditioner", preconditioner_name(settings_.preconditioner)},
-        {"mean_iterations", clock_.steps() > 0 ? static_cast<double>(total_iterations_) / static_cast<double>(clock_.steps()) : 0.0},
-        {"nonconverged_solves", nonconverged_solves_},
-        {"time_step", clock_.summary(time_step_settings_)},
-        {"ghosts_created", ghosts_},
-        {"ungrounded_groups_regularised", ungrounded_groups_}};
+    return {{"kernel", kernel_.kind() == SphKernelKind::CubicSpline ? "cubic_spline" : "wendland_c2"},
+            {"support_over_l0", kernel_.support() / l0},
+            {"particle_mass", mass_},
+            {"nominal_mass_rho0_l0_squared", rest_density_ * l0 * l0},
+            {"wall_treatments", walls_.names()},
+            {"boundary_model", walls_.boundary_name()},
+            {"preconditioner", preconditioner_name(settings_.preconditioner)},
+            {"mean_iterations",
+             clock_.steps() > 0 ? static_cast<double>(total_iterations_) / static_cast<double>(clock_.steps()) : 0.0},
+            {"nonconverged_solves", nonconverged_solves_},
+            {"time_step", clock_.summary(time_step_settings_)},
+            {"ghosts_created", ghosts_},
+            {"ungrounded_groups_regularised", ungrounded_groups_}};
   }
 
   // State between steps: the predictor of the next step uses the neighbour list of this
@@ -224,7 +225,8 @@ class IsphMethod final : public Method {
     walls_.after_explicit_velocity(context);
     {  // r* = r^n + dt u*
       const auto timed = measure(timers_, integration_phase_);
-      for_each_fluid_particle(particles, [&](std::ptrdiff_t i) { particles.position[i] += dt * particles.velocity[i]; });
+      for_each_fluid_particle(particles,
+                              [&](std::ptrdiff_t i) { particles.position[i] += dt * particles.velocity[i]; });
       fix_walls(particles);
     }
     walls_.after_explicit_position(context);
@@ -255,8 +257,8 @@ class IsphMethod final : public Method {
       // Wall samples likewise: u*_w = dt g + M_w (u*_s - dt g): a fixed wall point has dt g, a
       // mirror image the mirrored motion of its source relative to that (docs/methods/isph.md,
       // "Wall boundary models": with u*_w = M_w u*_s the hydrostatic head is counted twice).
-      velocity_divergence(particles, neighbours_, samples_, kernel_, mass_, rho, predicted_velocity_, Vec2(dt * gravity),
-                          divergence);
+      velocity_divergence(particles, neighbours_, samples_, kernel_, mass_, rho, predicted_velocity_,
+                          Vec2(dt * gravity), divergence);
       compute_source(particles, density, divergence, dt);
     }
   }
@@ -503,7 +505,8 @@ void mps_lab_register_method_isph(mps_lab::MethodRegistry& registry) {
       boolean_parameter("clamp_negative_pressure", true,
                         "set p < 0 to 0 after the solve, fluid and wall (against the tensile instability)"),
       string_parameter("preconditioner", "auto",
-                       "BiCGSTAB preconditioner (incomplete_factorisation: ILU(0)); auto: amg from amg_min_fluid_particles fluid particles on, jacobi below")
+                       "BiCGSTAB preconditioner (incomplete_factorisation: ILU(0)); auto: amg from "
+                       "amg_min_fluid_particles fluid particles on, jacobi below")
           .one_of(preconditioner_choices()),
       integer_parameter("amg_min_fluid_particles", 2000,
                         "preconditioner auto: the fluid particle count from which AMG beats Jacobi (measured)")
@@ -534,9 +537,9 @@ void mps_lab_register_method_isph(mps_lab::MethodRegistry& registry) {
   // The step: the scene's fixed step by default (as mps); "cfl" adapts it to the flow. 0.25
   // keeps a margin below the largest stable fixed Courant number 0.4 measured with
   // U = sqrt(2 g H) >= v_max (docs/stability.md).
-  const auto time_step_specs = time_step_parameters(
-      {"fixed", 0.25, 1.0e-6, 2.0e-3, "0.25: below the largest stable 0.4 of docs/stability.md",
-       "docs/methods/isph.md: 5e-3 s spoils the dam break"});
+  const auto time_step_specs =
+      time_step_parameters({"fixed", 0.25, 1.0e-6, 2.0e-3, "0.25: below the largest stable 0.4 of docs/stability.md",
+                            "docs/methods/isph.md: 5e-3 s spoils the dam break"});
   info.parameters.insert(info.parameters.end(), time_step_specs.begin(), time_step_specs.end());
   info.create = [](const MethodSetup& setup) { return std::make_unique<isph::IsphMethod>(setup); };
   registry.add(std::move(info));

@@ -110,8 +110,8 @@ void velocity_divergence(const ParticleSet& particles, const NeighbourList& neig
 }
 
 void position_divergence(const ParticleSet& particles, const NeighbourList& neighbours, const WallSampleList& samples,
-                         const SphKernel& kernel, double mass, const std::vector<double>& density,
-                         double rest_density, std::vector<double>& out) {
+                         const SphKernel& kernel, double mass, const std::vector<double>& density, double rest_density,
+                         std::vector<double>& out) {
   out.assign(particles.size(), 0.0);
   for_each_fluid_particle(particles, [&](std::ptrdiff_t i) {
     double sum = 0.0;
@@ -138,11 +138,10 @@ PressureGradientForm pressure_gradient_form_from_name(const std::string& name) {
                               "' (expected symmetric, difference, corrected or symmetric_corrected_surface)");
 }
 
-void pressure_acceleration(const ParticleSet& particles, const NeighbourList& neighbours,
-                           const WallSampleList& samples, const SamplePressure& sample_rule,
-                           const SphKernel& kernel, double mass, const std::vector<double>& density,
-                           const std::vector<double>& free_surface, PressureGradientForm form,
-                           std::vector<Vec2>& acceleration) {
+void pressure_acceleration(const ParticleSet& particles, const NeighbourList& neighbours, const WallSampleList& samples,
+                           const SamplePressure& sample_rule, const SphKernel& kernel, double mass,
+                           const std::vector<double>& density, const std::vector<double>& free_surface,
+                           PressureGradientForm form, std::vector<Vec2>& acceleration) {
   const auto n = static_cast<std::ptrdiff_t>(particles.size());
   acceleration.resize(particles.size());
   const double rho_w = sample_rule.rest_density;

@@ -29,9 +29,9 @@
 #include <string>
 #include <vector>
 
-#include "core/search/neighbour_search.hpp"
 #include "core/base/particles.hpp"
 #include "core/kernels/sph_kernels.hpp"
+#include "core/search/neighbour_search.hpp"
 #include "core/walls/wall_samples.hpp"
 
 namespace mps_lab::isph {
@@ -109,11 +109,10 @@ inline void add_viscous_acceleration(const ParticleSet& particles, const Neighbo
 // wall particles: isph_method.cpp, docs/methods/isph.md).
 void velocity_divergence(const ParticleSet& particles, const NeighbourList& neighbours, const WallSampleList& samples,
                          const SphKernel& kernel, double mass, const std::vector<double>& density,
-                         const std::vector<Vec2>& velocity, const Vec2& sample_base_velocity,
-                         std::vector<double>& out);
-inline void velocity_divergence(const ParticleSet& particles, const NeighbourList& neighbours,
-                                const SphKernel& kernel, double mass, const std::vector<double>& density,
-                                const std::vector<Vec2>& velocity, std::vector<double>& out) {
+                         const std::vector<Vec2>& velocity, const Vec2& sample_base_velocity, std::vector<double>& out);
+inline void velocity_divergence(const ParticleSet& particles, const NeighbourList& neighbours, const SphKernel& kernel,
+                                double mass, const std::vector<double>& density, const std::vector<Vec2>& velocity,
+                                std::vector<double>& out) {
   velocity_divergence(particles, neighbours, no_wall_samples(), kernel, mass, density, velocity, Vec2::Zero(), out);
 }
 
@@ -121,11 +120,10 @@ inline void velocity_divergence(const ParticleSet& particles, const NeighbourLis
 // particles, 0 elsewhere: ~2 inside the 2-D fluid, ~1 on a flat surface. Wall samples count
 // with m V_w / rho0.
 void position_divergence(const ParticleSet& particles, const NeighbourList& neighbours, const WallSampleList& samples,
-                         const SphKernel& kernel, double mass, const std::vector<double>& density,
-                         double rest_density, std::vector<double>& out);
-inline void position_divergence(const ParticleSet& particles, const NeighbourList& neighbours,
-                                const SphKernel& kernel, double mass, const std::vector<double>& density,
-                                std::vector<double>& out) {
+                         const SphKernel& kernel, double mass, const std::vector<double>& density, double rest_density,
+                         std::vector<double>& out);
+inline void position_divergence(const ParticleSet& particles, const NeighbourList& neighbours, const SphKernel& kernel,
+                                double mass, const std::vector<double>& density, std::vector<double>& out) {
   position_divergence(particles, neighbours, no_wall_samples(), kernel, mass, density, 0.0, out);
 }
 
@@ -161,17 +159,16 @@ struct SamplePressure {
 // wall samples (mass m V_w, density rho0, pressure by `sample_rule`; in the
 // renormalisation matrix too). `free_surface[i]` != 0 marks surface particles (read by
 // SymmetricCorrectedSurface only).
-void pressure_acceleration(const ParticleSet& particles, const NeighbourList& neighbours,
-                           const WallSampleList& samples, const SamplePressure& sample_rule,
-                           const SphKernel& kernel, double mass, const std::vector<double>& density,
-                           const std::vector<double>& free_surface, PressureGradientForm form,
-                           std::vector<Vec2>& acceleration);
+void pressure_acceleration(const ParticleSet& particles, const NeighbourList& neighbours, const WallSampleList& samples,
+                           const SamplePressure& sample_rule, const SphKernel& kernel, double mass,
+                           const std::vector<double>& density, const std::vector<double>& free_surface,
+                           PressureGradientForm form, std::vector<Vec2>& acceleration);
 inline void pressure_acceleration(const ParticleSet& particles, const NeighbourList& neighbours,
                                   const SphKernel& kernel, double mass, const std::vector<double>& density,
                                   const std::vector<double>& free_surface, PressureGradientForm form,
                                   std::vector<Vec2>& acceleration) {
-  pressure_acceleration(particles, neighbours, no_wall_samples(), SamplePressure{}, kernel, mass, density,
-                        free_surface, form, acceleration);
+  pressure_acceleration(particles, neighbours, no_wall_samples(), SamplePressure{}, kernel, mass, density, free_surface,
+                        form, acceleration);
 }
 
 }  // namespace mps_lab::isph

@@ -27,8 +27,7 @@ bool PressurePoissonSolver::fluid_row(const RowInputs& in, int row, std::size_t 
   double diagonal = 0.0;
   for_each_neighbour(neighbours, i, [&](std::uint32_t j) {
     if (particles.type[j] == ParticleType::Ghost) return;
-    const double factor =
-        laplacian_pair_factor(kernel, particles.position[i] - particles.position[j], settings.eta2);
+    const double factor = laplacian_pair_factor(kernel, particles.position[i] - particles.position[j], settings.eta2);
     const double a = fluid_scale * ppe_pair_coefficient(settings.mass, density[i], density[j], factor);
     if (a == 0.0) return;
     diagonal += a;
@@ -44,11 +43,10 @@ bool PressurePoissonSolver::fluid_row(const RowInputs& in, int row, std::size_t 
     const std::uint32_t s = wall.source;
     if (particles.type[s] == ParticleType::Ghost) return;
     const double factor = laplacian_pair_factor(kernel, particles.position[i] - wall.position, settings.eta2);
-    const double a = fluid_scale * ppe_pair_coefficient(settings.mass * wall.volume, density[i],
-                                                        settings.rest_density, factor);
+    const double a =
+        fluid_scale * ppe_pair_coefficient(settings.mass * wall.volume, density[i], settings.rest_density, factor);
     if (a == 0.0) return;
-    wall_head +=
-        a * sample_pressure_offset(wall, particles.position, settings.rest_density, settings.gravity);
+    wall_head += a * sample_pressure_offset(wall, particles.position, settings.rest_density, settings.gravity);
     if (s == i) return;  // p_w - p_i = the hydrostatic part alone
     diagonal += a;
     if (row_of_[s] >= 0) {
@@ -123,8 +121,8 @@ void PressurePoissonSolver::assemble_rows(const ParticleSet& particles, const Ne
     const auto i = static_cast<std::size_t>(particle_of_[static_cast<std::size_t>(row)]);
     auto writer = assembler_.row(row);
     writer.add(row, 0.0);  // the diagonal, set below
-    const bool grounded = particles.type[i] == ParticleType::Fluid ? fluid_row(in, row, i, writer)
-                                                                   : wall_row(in, row, i, writer);
+    const bool grounded =
+        particles.type[i] == ParticleType::Fluid ? fluid_row(in, row, i, writer) : wall_row(in, row, i, writer);
     writer.close();
     grounded_[static_cast<std::size_t>(row)] = grounded ? 1 : 0;
   }

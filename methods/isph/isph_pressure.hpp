@@ -35,10 +35,10 @@
 
 #include <Eigen/Sparse>
 
-#include "core/linalg/projection_solver.hpp"
-#include "core/search/neighbour_search.hpp"
 #include "core/base/particles.hpp"
 #include "core/kernels/sph_kernels.hpp"
+#include "core/linalg/projection_solver.hpp"
+#include "core/search/neighbour_search.hpp"
 #include "core/walls/wall_samples.hpp"
 
 namespace mps_lab::isph {

@@ -8,16 +8,16 @@
 // Bracketed steps are wall treatments (core/walls/), on by default, each switchable.
 // Decisions where the spec is open are documented in docs/methods/mps.md.
 #include <algorithm>
-#include <stdexcept>
-#include <string>
 #include <cmath>
 #include <memory>
+#include <stdexcept>
+#include <string>
 
 #include "core/io/checkpoint.hpp"
 #include "core/io/geometry.hpp"
-#include "core/run/method.hpp"
 #include "core/io/output.hpp"
 #include "core/io/scene.hpp"
+#include "core/run/method.hpp"
 #include "methods/mps/mps_operators.hpp"
 #include "methods/mps/mps_pressure.hpp"
 
@@ -49,8 +49,8 @@ class MpsMethod final : public Method {
     // boundary models have no wall particles; their wall samples carry extrapolated pressures).
     if (const WallParticleModel* model = walls_.wall_particle_model()) {
       if (model->pressure() != WallParticlePressure::SolvedInPpe) {
-        throw std::logic_error(std::string("mps: wall-particle model ") + wall_particle_pressure_name(model->pressure()) +
-                               " is not implemented by this method");
+        throw std::logic_error(std::string("mps: wall-particle model ") +
+                               wall_particle_pressure_name(model->pressure()) + " is not implemented by this method");
       }
       pressure_wall_layers_ = model->pressure_layers();
     }
@@ -72,12 +72,13 @@ class MpsMethod final : public Method {
     // "auto": AMG from amg_min_fluid_particles on (docs/performance.md: at 741 fluid particles
     // Jacobi-CG is 1.5x faster, at 4851 AMG-CG is 1.6x faster), decided once per run from the
     // initial particles, so a restored checkpoint decides the same.
-    settings_.preconditioner = choose_preconditioner(preconditioner_choice_, particles.count(ParticleType::Fluid),
-                                                     amg_min_fluid_particles_);
+    settings_.preconditioner =
+        choose_preconditioner(preconditioner_choice_, particles.count(ParticleType::Fluid), amg_min_fluid_particles_);
     carries_pressure_.assign(n, 0);
     for (std::size_t i = 0; i < n; ++i) {
-      carries_pressure_[i] = particles.type[i] == ParticleType::Fluid ||
-                             (particles.type[i] == ParticleType::Wall && particles.wall_layer[i] <= pressure_wall_layers_);
+      carries_pressure_[i] =
+          particles.type[i] == ParticleType::Fluid ||
+          (particles.type[i] == ParticleType::Wall && particles.wall_layer[i] <= pressure_wall_layers_);
     }
     acceleration_.assign(n, Vec2::Zero());
     WallContext context{particles, &neighbours_, 0.0, scene_};
@@ -91,12 +92,12 @@ class MpsMethod final : public Method {
     WallContext context{particles, &neighbours_, dt, scene_};
     context.samples = &samples_;
     context.support = search_radius_;
-    explicit_step(particles, dt, context);     // 5.1
+    explicit_step(particles, dt, context);  // 5.1
     // --- 5.2 implicit step -------------------------------------------------------------
-    search_with_samples(particles, context);  // 5.2-1 (and the wall samples at r*)
-    walls_.after_neighbour_search(context);   // 5.2-2 repulsion, 5.2-3 collision
+    search_with_samples(particles, context);                          // 5.2-1 (and the wall samples at r*)
+    walls_.after_neighbour_search(context);                           // 5.2-2 repulsion, 5.2-3 collision
     const PressureSolveResult solve = solve_pressure(particles, dt);  // 5.2-4 to 5.2-7
-    correct(particles, dt, context);          // 5.2-8 to 5.2-11
+    correct(particles, dt, context);                                  // 5.2-8 to 5.2-11
     total_iterations_ += solve.iterations;
     ++steps_;
     ungrounded_groups_ += solve.ungrounded_groups;
@@ -106,7 +107,8 @@ class MpsMethod final : public Method {
   nlohmann::json summary() const override {
     const double l0 = scene_.particle_spacing;
     const auto radius_json = [l0](const OperatorRadius& radius) {
-      return nlohmann::json{{"re_over_l0", radius.re / l0}, {"n0", radius.n0}, {"lambda_over_l0_squared", radius.lambda / (l0 * l0)}};
+      return nlohmann::json{
+          {"re_over_l0", radius.re / l0}, {"n0", radius.n0}, {"lambda_over_l0_squared", radius.lambda / (l0 * l0)}};
     };
     return {{"number_density_radius", radius_json(density_radius_)},
             {"gradient_radius", radius_json(gradient_radius_)},
@@ -181,7 +183,7 @@ class MpsMethod final : public Method {
       for (std::ptrdiff_t i = 0; i < count; ++i) {
         if (particles.type[i] == ParticleType::Fluid) particles.position[i] += dt * particles.velocity[i];  // 5.1-5
       }
-      fix_walls(particles);                   // 5.1-6
+      fix_walls(particles);  // 5.1-6
     }
     walls_.after_explicit_position(context);  // 5.1-7 position clamp
   }
@@ -223,9 +225,9 @@ class MpsMethod final : public Method {
         particles.velocity[i] += dt * acceleration_[i];
         particles.position[i] += dt * (dt * acceleration_[i]);
       }
-      fix_walls(particles);                // 5.2-9
+      fix_walls(particles);  // 5.2-9
     }
-    walls_.after_correction(context);    // 5.2-10 position clamp
+    walls_.after_correction(context);  // 5.2-10 position clamp
     {
       const auto timed = measure(timers_, integration_phase_);
       ghosts_ += mark_escaped_as_ghosts(particles, scene_);  // 5.2-11
@@ -233,7 +235,8 @@ class MpsMethod final : public Method {
   }
 
   // The step's report: solver statistics, and the compressibility left for the solver.
-  StepReport step_report(const ParticleSet& particles, const PressureSolveResult& solve, const WallContext& context) const {
+  StepReport step_report(const ParticleSet& particles, const PressureSolveResult& solve,
+                         const WallContext& context) const {
     const std::size_t n = particles.size();
     const auto& n_star = particles.field("number_density");
     // Compressibility left for the solver: mean |n* - n0| / n0 over interior fluid.
@@ -255,9 +258,8 @@ class MpsMethod final : public Method {
                            format_double(settings_.tolerance) + " after " + std::to_string(solve.iterations) +
                            " iterations";
     }
-    report.extra = {interior > 0 ? deviation / static_cast<double>(interior) : 0.0,
-                    static_cast<double>(solve.surface), static_cast<double>(solve.unknowns),
-                    static_cast<double>(solve.ungrounded_groups)};
+    report.extra = {interior > 0 ? deviation / static_cast<double>(interior) : 0.0, static_cast<double>(solve.surface),
+                    static_cast<double>(solve.unknowns), static_cast<double>(solve.ungrounded_groups)};
     return report;
   }
 
@@ -313,23 +315,33 @@ void mps_lab_register_method_mps(mps_lab::MethodRegistry& registry) {
   info.name = "mps";
   info.description = "semi-implicit MPS of the specification (Koshizuka & Oka 1996): number-density PPE by CG";
   info.parameters = {
-      number_parameter("re_number_density", 2.1, "l0", "radius of influence of the number density (spec §3)").above(1.0).at_most(4.0),
-      number_parameter("re_gradient", 2.1, "l0", "radius of influence of the pressure gradient (spec §3)").above(1.0).at_most(4.0),
+      number_parameter("re_number_density", 2.1, "l0", "radius of influence of the number density (spec §3)")
+          .above(1.0)
+          .at_most(4.0),
+      number_parameter("re_gradient", 2.1, "l0", "radius of influence of the pressure gradient (spec §3)")
+          .above(1.0)
+          .at_most(4.0),
       number_parameter("re_laplacian", 2.1, "l0",
                        "radius of influence of the Laplacian, viscosity and PPE (spec: 2.1; K&O 1996: 4.0)")
           .above(1.0)
           .at_most(4.0),
-      number_parameter("r_min", 0.01, "l0", "R_MIN: smaller distances are clamped in the weight (spec §2)").above(0.0).below(1.0),
+      number_parameter("r_min", 0.01, "l0", "R_MIN: smaller distances are clamped in the weight (spec §2)")
+          .above(0.0)
+          .below(1.0),
       number_parameter("free_surface_threshold", 0.97, "", "beta: n*/n0 < beta marks a free-surface particle (spec §3)")
           .above(0.0)
           .below(1.0),
-      number_parameter("relaxation", 0.2, "", "pressure relaxation coefficient on the PPE source (spec §3)").above(0.0).at_most(1.0),
+      number_parameter("relaxation", 0.2, "", "pressure relaxation coefficient on the PPE source (spec §3)")
+          .above(0.0)
+          .at_most(1.0),
       integer_parameter("cg_max_iterations", 10000, "conjugate-gradient iteration cap (spec §3)").at_least(1),
-      number_parameter("cg_tolerance", 1.0e-8, "", "CG stops at ||b - A p|| / ||b|| below this (spec §3, read as relative)")
+      number_parameter("cg_tolerance", 1.0e-8, "",
+                       "CG stops at ||b - A p|| / ||b|| below this (spec §3, read as relative)")
           .above(0.0)
           .below(1.0),
       string_parameter("preconditioner", "auto",
-                       "CG preconditioner (incomplete_factorisation: IC(0)); auto: amg from amg_min_fluid_particles fluid particles on, jacobi below")
+                       "CG preconditioner (incomplete_factorisation: IC(0)); auto: amg from amg_min_fluid_particles "
+                       "fluid particles on, jacobi below")
           .one_of(preconditioner_choices()),
       integer_parameter("amg_min_fluid_particles", 2000,
                         "preconditioner auto: the fluid particle count from which AMG beats Jacobi (measured)")
@@ -342,7 +354,7 @@ void mps_lab_register_method_mps(mps_lab::MethodRegistry& registry) {
                  {"free_surface", "", "1 where n*/n0 < free_surface_threshold (P = 0)", true}};
   info.series_columns = {"number_density_error", "free_surface_particles", "ppe_unknowns", "ungrounded_groups"};
   info.default_wall_treatments = {"spec_wall_particles", "cfl_velocity_clamp", "wall_repulsion", "wall_position_clamp",
-                                 "particle_collision"};
+                                  "particle_collision"};
   info.wall_samples = true;
   info.wall_particle_models = {WallParticlePressure::SolvedInPpe};  // spec_wall_particles
   info.wall_hooks = mps::kWallHooks;

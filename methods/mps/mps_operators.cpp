@@ -33,8 +33,8 @@ void number_density(const ParticleSet& particles, const NeighbourList& neighbour
 }
 
 void add_viscous_acceleration(const ParticleSet& particles, const NeighbourList& neighbours,
-                              const WallSampleList& samples, const OperatorRadius& radius,
-                              double kinematic_viscosity, std::vector<Vec2>& acceleration) {
+                              const WallSampleList& samples, const OperatorRadius& radius, double kinematic_viscosity,
+                              std::vector<Vec2>& acceleration) {
   const double coefficient = kinematic_viscosity * 2.0 * kDimension / (radius.n0 * radius.lambda);  // 1/s
   for_each_fluid_particle(particles, [&](std::ptrdiff_t i) {
     Vec2 sum = Vec2::Zero();
@@ -51,10 +51,9 @@ void add_viscous_acceleration(const ParticleSet& particles, const NeighbourList&
   });
 }
 
-void pressure_acceleration(const ParticleSet& particles, const NeighbourList& neighbours,
-                           const WallSampleList& samples, const OperatorRadius& radius,
-                           const std::vector<char>& carries_pressure, double density, const Vec2& gravity,
-                           bool min_includes_self, std::vector<Vec2>& acceleration) {
+void pressure_acceleration(const ParticleSet& particles, const NeighbourList& neighbours, const WallSampleList& samples,
+                           const OperatorRadius& radius, const std::vector<char>& carries_pressure, double density,
+                           const Vec2& gravity, bool min_includes_self, std::vector<Vec2>& acceleration) {
   const double coefficient = kDimension / radius.n0;
   const double r_min2 = radius.r_min * radius.r_min;
   const auto n = static_cast<std::ptrdiff_t>(particles.size());

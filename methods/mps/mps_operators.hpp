@@ -5,10 +5,10 @@
 // spec's single re = 2.1 l0 and the larger Laplacian radius of K&O 1996 are both expressible.
 #include <vector>
 
-#include "methods/mps/mps_kernels.hpp"
-#include "core/search/neighbour_search.hpp"
 #include "core/base/particles.hpp"
+#include "core/search/neighbour_search.hpp"
 #include "core/walls/wall_samples.hpp"
+#include "methods/mps/mps_kernels.hpp"
 
 namespace mps_lab::mps {
 
@@ -37,16 +37,15 @@ void number_density(const ParticleSet& particles, const NeighbourList& neighbour
 // over every non-ghost neighbour (walls have u = 0) and wall sample (u_w). Adds nu <lap u>_i
 // to acceleration.
 void add_viscous_acceleration(const ParticleSet& particles, const NeighbourList& neighbours,
-                              const WallSampleList& samples, const OperatorRadius& radius,
-                              double kinematic_viscosity, std::vector<Vec2>& acceleration);
+                              const WallSampleList& samples, const OperatorRadius& radius, double kinematic_viscosity,
+                              std::vector<Vec2>& acceleration);
 
 // <grad P>_i = (d/n0) sum_j (P_j - P_min,i) / |r_ij|^2 r_ij w_ij (spec §2), for fluid
 // particles, over neighbours with carries_pressure[j]; P_min,i is the minimum pressure over
 // those neighbours, and over i itself when `min_includes_self`; wall samples enter both with
 // p_w = p_s + rho g . (x_w - x_s). Writes -(1/rho) <grad P>_i.
-void pressure_acceleration(const ParticleSet& particles, const NeighbourList& neighbours,
-                           const WallSampleList& samples, const OperatorRadius& radius,
-                           const std::vector<char>& carries_pressure, double density, const Vec2& gravity,
-                           bool min_includes_self, std::vector<Vec2>& acceleration);
+void pressure_acceleration(const ParticleSet& particles, const NeighbourList& neighbours, const WallSampleList& samples,
+                           const OperatorRadius& radius, const std::vector<char>& carries_pressure, double density,
+                           const Vec2& gravity, bool min_includes_self, std::vector<Vec2>& acceleration);
 
 }  // namespace mps_lab::mps

@@ -28,8 +28,8 @@ void PressurePoissonSolver::assemble_row(const RowInputs& in, int row) {
   bool grounded = false;
   for_each_neighbour(neighbours, i, [&](std::uint32_t j) {
     if (!carries_pressure[j] || particles.type[j] == ParticleType::Ghost) return;
-    const double a = coefficient *
-                       mps_weight((particles.position[j] - particles.position[i]).norm(), laplacian.re, laplacian.r_min);
+    const double a =
+        coefficient * mps_weight((particles.position[j] - particles.position[i]).norm(), laplacian.re, laplacian.r_min);
     if (a == 0.0) return;
     diagonal += a;
     if (row_of_[j] >= 0) {
@@ -41,7 +41,7 @@ void PressurePoissonSolver::assemble_row(const RowInputs& in, int row) {
   double wall_part = 0.0;  // known part of the wall samples' Laplacian terms, moved to b_i
   for_each_neighbour(samples, i, [&](const WallSample& wall) {
     const double a = coefficient * wall.volume *
-                         mps_weight((wall.position - particles.position[i]).norm(), laplacian.re, laplacian.r_min);
+                     mps_weight((wall.position - particles.position[i]).norm(), laplacian.re, laplacian.r_min);
     if (a == 0.0) return;
     wall_part += a * sample_pressure_offset(wall, particles.position, settings.density, settings.gravity);
     if (wall.source == i) return;  // p_i - p_i
@@ -97,12 +97,12 @@ PressureSolveResult PressurePoissonSolver::assemble(ParticleSet& particles, cons
   // Assembly: a_ij = (2d / (n0_L lambda_L)) w_L(r_ij) (spec §2 Laplacian), A_ii = sum_j a_ij,
   // A_ij = -a_ij; the diagonal is stored first in its row. Rows in parallel: row i reads only.
   const double coefficient = 2.0 * kDimension / (laplacian.n0 * laplacian.lambda);  // 1/m^2
-  const double source = settings.relaxation * settings.density / (dt * dt);        // kg/(m^3 s^2)
+  const double source = settings.relaxation * settings.density / (dt * dt);         // kg/(m^3 s^2)
   const bool with_samples = samples.has_samples();
   rhs_.resize(static_cast<std::size_t>(unknowns));
   grounded_.assign(static_cast<std::size_t>(unknowns), 0);
-  const RowInputs in{particles, neighbours, samples, number_density, carries_pressure, laplacian, settings,
-                     n0, coefficient, source};
+  const RowInputs in{particles, neighbours, samples, number_density, carries_pressure,
+                     laplacian, settings,   n0,      coefficient,    source};
   assembler_.start(unknowns, [&](int row) {
     const auto i = static_cast<std::size_t>(particle_of_[static_cast<std::size_t>(row)]);
     return static_cast<int>(1 + neighbours.count(i) + (with_samples ? samples.end(i) - samples.begin(i) : 0));

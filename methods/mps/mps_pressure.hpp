@@ -15,10 +15,10 @@
 
 #include <Eigen/Sparse>
 
-#include "core/linalg/projection_solver.hpp"
-#include "core/search/neighbour_search.hpp"
 #include "core/base/particles.hpp"
+#include "core/linalg/projection_solver.hpp"
 #include "core/linalg/sparse_matrix.hpp"
+#include "core/search/neighbour_search.hpp"
 #include "methods/mps/mps_operators.hpp"
 
 namespace mps_lab::mps {
@@ -30,18 +30,18 @@ struct PressureSolveSettings {
   double free_surface_threshold = 0.97;  // beta: surface if n*/n0 < beta
   double tolerance = 1.0e-8;             // relative residual ||b - A p|| / ||b||
   long long max_iterations = 10000;
-  bool warm_start = true;                 // start CG from the previous pressure
+  bool warm_start = true;  // start CG from the previous pressure
   // core/linalg/projection_solver.hpp: jacobi, incomplete_factorisation (IC(0) here) or amg
   PreconditionerKind preconditioner = PreconditionerKind::Jacobi;
-  bool clamp_negative = true;             // spec §5.2-7
+  bool clamp_negative = true;  // spec §5.2-7
 };
 
 struct PressureSolveResult {
   long long iterations = 0;
-  double residual = 0.0;             // ||b - A p|| / ||b|| of the returned pressure
+  double residual = 0.0;  // ||b - A p|| / ||b|| of the returned pressure
   bool converged = true;
   std::size_t unknowns = 0;
-  std::size_t surface = 0;           // pressure-carrying particles held at P = 0
+  std::size_t surface = 0;            // pressure-carrying particles held at P = 0
   std::size_t ungrounded_groups = 0;  // groups of unknowns without a Dirichlet neighbour
 };
 
@@ -80,9 +80,7 @@ class PressurePoissonSolver {
   // The last assembled system (for tests).
   const CsrMatrix& csr_matrix() const { return matrix_; }
   Eigen::SparseMatrix<double, Eigen::RowMajor> matrix() const;
-  Eigen::Map<const Eigen::VectorXd> rhs() const {
-    return {rhs_.data(), static_cast<Eigen::Index>(matrix_.rows)};
-  }
+  Eigen::Map<const Eigen::VectorXd> rhs() const { return {rhs_.data(), static_cast<Eigen::Index>(matrix_.rows)}; }
 
  private:
   // What every row of the assembly reads.
