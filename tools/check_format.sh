@@ -8,7 +8,7 @@ if [ -z "$formatter" ]; then
   echo "check_format: clang-format not found (apt-get install clang-format)" >&2
   exit 1
 fi
-mapfile -t files < <(git ls-files '*.cpp' '*.hpp' '*.cpp.in')
+mapfile -t files < <(git ls-files '*.cpp' '*.hpp')
 if [ "${1:-}" = "--fix" ]; then
   "$formatter" -i "${files[@]}"
   exit 0
