@@ -15,13 +15,11 @@
 #include "core/base/error.hpp"
 #include "lab/data_directory.hpp"
 
-int main(int argc, char** argv) {
-  CLI::App app{"mps_lab: a testbed comparing incompressible particle methods (MPS, ISPH, DFSPH) on the same scenes"};
-  app.require_subcommand(1);
-  app.set_version_flag("--version", mps_lab::version_line());
+namespace {
 
-  mps_lab::app::RunCommand run;
-  auto* run_app =
+// `mps_lab run`: its options into `run`.
+CLI::App* add_run_command(CLI::App& app, mps_lab::app::RunCommand& run) {
+  CLI::App* run_app =
       app.add_subcommand("run", "run one method on a scene; frames, series.csv and run.json in the output folder");
   run_app->add_option("scene", run.scene, "scene file (JSON), e.g. scenes/dambreak.json")->required();
   run_app->add_option("--method,-m", run.method,
@@ -38,9 +36,12 @@ int main(int argc, char** argv) {
   run_app->add_flag("--profile", run.profile,
                     "print where the time went at the end: seconds, share and ms per step of each phase "
                     "(also in run.json \"profile\" of every run)");
+  return run_app;
+}
 
-  mps_lab::app::ResumeCommand resume;
-  auto* resume_app = app.add_subcommand(
+// `mps_lab resume`: its options into `resume`.
+CLI::App* add_resume_command(CLI::App& app, mps_lab::app::ResumeCommand& resume) {
+  CLI::App* resume_app = app.add_subcommand(
       "resume",
       "continue a run from its folder's checkpoint.bin (interrupted, killed, or completed and extended "
       "with --end-time), writing into the same folder");
@@ -51,9 +52,12 @@ int main(int argc, char** argv) {
                          "checkpoint every N steps (default: as the run did)");
   resume_app->add_flag("--quiet,-q", resume.quiet, "no progress line and no summary line");
   resume_app->add_flag("--profile", resume.profile, "print the per-phase profile of this session at the end");
+  return resume_app;
+}
 
-  mps_lab::app::CompareCommand compare;
-  auto* compare_app =
+// `mps_lab compare`: its options into `compare`.
+CLI::App* add_compare_command(CLI::App& app, mps_lab::app::CompareCommand& compare) {
+  CLI::App* compare_app =
       app.add_subcommand("compare", "run several methods on one scene, write summary.csv, figures and report.md");
   compare_app->add_option("scene", compare.scene, "scene file (JSON)")->required();
   compare_app->add_option("--methods", compare.methods, "comma-separated methods (default: all registered)")
@@ -64,9 +68,12 @@ int main(int argc, char** argv) {
   compare_app->add_option("--end-time", compare.end_time, "simulated end time in s");
   compare_app->add_flag("!--no-analysis", compare.analysis, "skip the Python figures and report");
   compare_app->add_flag("--quiet,-q", compare.quiet, "no progress and no table");
+  return compare_app;
+}
 
-  mps_lab::app::BenchCommand bench;
-  auto* bench_app = app.add_subcommand(
+// `mps_lab bench`: its options into `bench`.
+CLI::App* add_bench_command(CLI::App& app, mps_lab::app::BenchCommand& bench) {
+  CLI::App* bench_app = app.add_subcommand(
       "bench", "measure speed: kernels and whole steps of each method at several resolutions (docs/performance.md)");
   bench_app->add_option("scene", bench.scene, "scene file (default: scenes/dambreak.json)");
   bench_app->add_option("--methods", bench.methods, "comma-separated methods (default: all registered)")
@@ -97,6 +104,24 @@ int main(int argc, char** argv) {
   bench_app->add_flag("!--no-kernels", bench.kernels, "skip the kernel micro-benchmarks");
   bench_app->add_option("--json", bench.json, "also write every measurement to this JSON file");
   bench_app->add_flag("--quiet,-q", bench.quiet, "no line per case on stderr");
+  return bench_app;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{"mps_lab: a testbed comparing incompressible particle methods (MPS, ISPH, DFSPH) on the same scenes"};
+  app.require_subcommand(1);
+  app.set_version_flag("--version", mps_lab::version_line());
+
+  mps_lab::app::RunCommand run;
+  CLI::App* run_app = add_run_command(app, run);
+  mps_lab::app::ResumeCommand resume;
+  CLI::App* resume_app = add_resume_command(app, resume);
+  mps_lab::app::CompareCommand compare;
+  CLI::App* compare_app = add_compare_command(app, compare);
+  mps_lab::app::BenchCommand bench;
+  CLI::App* bench_app = add_bench_command(app, bench);
 
   bool with_parameters = false;
   auto* methods_app = app.add_subcommand("methods", "list the registered methods, one line each");

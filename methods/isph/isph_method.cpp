@@ -460,14 +460,10 @@ class IsphMethod final : public Method {
 }  // namespace
 }  // namespace mps_lab::isph
 
-void mps_lab_register_method_isph(mps_lab::MethodRegistry& registry) {
+// The isph block of a scene: every key with its default (the papers' values) and range.
+static std::vector<mps_lab::ParameterSpec> isph_parameters() {
   using namespace mps_lab;
-  MethodInfo info;
-  info.name = "isph";
-  info.description =
-      "incompressible SPH by projection (Cummins & Rudman 1999; Shao & Lo 2003; Asai et al. 2012 source): "
-      "fluid + Adami-wall (or wall-sample) PPE by BiCGSTAB";
-  info.parameters = {
+  return {
       string_parameter("kernel", "cubic_spline", "SPH kernel (core/kernels/sph_kernels.hpp)")
           .one_of({"cubic_spline", "wendland_c2"}),
       number_parameter("smoothing_length", 1.2, "l0",
@@ -517,6 +513,16 @@ void mps_lab_register_method_isph(mps_lab::MethodRegistry& registry) {
       integer_parameter("solver_max_iterations", 1000, "BiCGSTAB iteration cap per step").at_least(1),
       boolean_parameter("warm_start", true, "start BiCGSTAB from the previous step's pressure"),
   };
+}
+
+void mps_lab_register_method_isph(mps_lab::MethodRegistry& registry) {
+  using namespace mps_lab;
+  MethodInfo info;
+  info.name = "isph";
+  info.description =
+      "incompressible SPH by projection (Cummins & Rudman 1999; Shao & Lo 2003; Asai et al. 2012 source): "
+      "fluid + Adami-wall (or wall-sample) PPE by BiCGSTAB";
+  info.parameters = isph_parameters();
   info.fields = {{"density", "kg/m^3", "summation density rho* at the provisional positions (walls: rho0)", true},
                  {"free_surface", "", "1 where the free-surface rule holds (p = 0)", true},
                  {"velocity_divergence", "1/s", "div u* of the predicted velocity (PPE source)", true}};
