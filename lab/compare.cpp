@@ -26,10 +26,7 @@ std::map<std::string, std::vector<double>> read_series(const fs::path& path) {
   std::vector<std::string> header;
   std::map<std::string, std::vector<double>> columns;
   while (std::getline(file, line)) {
-    std::vector<std::string> cells;
-    std::stringstream stream(line);
-    std::string cell;
-    while (std::getline(stream, cell, ',')) cells.push_back(cell);
+    const std::vector<std::string> cells = split_csv_line(line);
     if (header.empty()) {
       header = cells;
       continue;

@@ -11,6 +11,14 @@
 
 namespace mps_lab {
 
+std::vector<std::string> split_csv_line(const std::string& line) {
+  std::vector<std::string> cells;
+  std::stringstream stream(line);
+  std::string cell;
+  while (std::getline(stream, cell, ',')) cells.push_back(cell);
+  return cells;
+}
+
 Curve read_curve_csv(const std::string& path, const std::string& x_column, const std::string& y_column) {
   std::ifstream file(path);
   if (!file) throw_input_error(path, "", "cannot open the data file");
@@ -20,10 +28,7 @@ Curve read_curve_csv(const std::string& path, const std::string& x_column, const
   int x_index = -1, y_index = -1;
   while (std::getline(file, line)) {
     if (line.empty() || line[0] == '#') continue;
-    std::vector<std::string> cells;
-    std::stringstream stream(line);
-    std::string cell;
-    while (std::getline(stream, cell, ',')) cells.push_back(cell);
+    const std::vector<std::string> cells = split_csv_line(line);
     if (header.empty()) {
       header = cells;
       for (std::size_t k = 0; k < header.size(); ++k) {

@@ -20,6 +20,10 @@ struct Curve {
 // Reads two columns (by header name) of a CSV whose comment lines start with '#'.
 Curve read_curve_csv(const std::string& path, const std::string& x_column, const std::string& y_column);
 
+// The cells of one line of a CSV file (comma-separated, no quoting: the files mps_lab writes
+// and the experimental data).
+std::vector<std::string> split_csv_line(const std::string& line);
+
 // Linear interpolation of a curve with increasing x; NaN outside [x.front(), x.back()].
 double interpolate(const Curve& curve, double x);
 
