@@ -114,3 +114,15 @@ def best_shift_error(sim_x, sim_y, exp_x, exp_y, max_shift: float = 0.3, resolut
         if points == best[2] and rms < best[0]:
             best = (rms, largest, points, shift)
     return best
+
+
+def front_errors(run) -> dict:
+    """front_rms, front_rms_shifted and front_best_shift of a run against Martin & Moyce
+    (empty when no experimental point falls in the simulated time)."""
+    exp_t, exp_z = martin_moyce_front()
+    t, z = run.front_curve()
+    rms, _, points = curve_error(t, z, exp_t, exp_z)
+    if not points:
+        return {}
+    shifted = best_shift_error(t, z, exp_t, exp_z)
+    return {"front_rms": rms, "front_rms_shifted": shifted[0], "front_best_shift": shifted[3]}

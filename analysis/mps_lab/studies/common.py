@@ -26,6 +26,16 @@ def load_json(path: str) -> dict:
         raise SpecError(f"{path}: {error}") from error
 
 
+def check_spec_keys(path: str, spec: dict, known: set[str], required: tuple[str, ...]) -> None:
+    """A study file's keys: an unknown or a missing one is a one-line SpecError naming it."""
+    for key in spec:
+        if key not in known:
+            raise SpecError(f"{path}: {key}: unknown key (expected one of: {', '.join(sorted(known))})")
+    for key in required:
+        if key not in spec:
+            raise SpecError(f"{path}: {key}: missing")
+
+
 def source_path(path: str) -> str:
     """A path of a specification (a scene): absolute as given, else relative to the source tree."""
     return path if os.path.isabs(path) else os.path.join(SOURCE_ROOT, path)

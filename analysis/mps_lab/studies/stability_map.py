@@ -51,7 +51,7 @@ import sys
 
 from .. import methods, runner
 from . import sweep
-from .common import FINISHED, SpecError, case_folder, check_methods, load_json, status_of, write_csv
+from .common import FINISHED, SpecError, case_folder, check_methods, check_spec_keys, load_json, status_of, write_csv
 
 DEFAULT_TIMEOUT = 3 * 3600.0  # s per case: far above any case of analysis/sweeps/stability.json; it stops a hung case
 COLUMNS = ["map", "method", "rule", "l0", "courant", "dt", "status", "stop_event", "stop_time", "first_event",
@@ -73,13 +73,7 @@ REASON_WORDS = [("non-finite", "non_finite"), ("Courant number", "courant"), ("c
 def load_spec(path: str) -> dict:
     """The map specification, checked; raises SpecError with one line."""
     spec = load_json(path)
-    known = {"description", "scene", "end_time", "spacings", "reference_speed", "set", "min_courant", "maps"}
-    for key in spec:
-        if key not in known:
-            raise SpecError(f"{path}: {key}: unknown key (expected one of: {', '.join(sorted(known))})")
-    for key in ("scene", "spacings", "maps"):
-        if key not in spec:
-            raise SpecError(f"{path}: {key}: missing")
+    check_spec_keys(path, spec, {"description", "scene", "end_time", "spacings", "reference_speed", "set", "min_courant", "maps"}, ("scene", "spacings", "maps"))
     try:
         floors = {float(l0): float(c) for l0, c in spec.get("min_courant", {}).items()}
     except (AttributeError, TypeError, ValueError) as error:

@@ -37,7 +37,7 @@ import sys
 import numpy as np
 
 from .. import data, methods, runner
-from .common import FINISHED, SpecError, case_folder, check_methods, load_json, source_path, status_of, write_csv
+from .common import FINISHED, SpecError, case_folder, check_methods, check_spec_keys, load_json, source_path, status_of, write_csv
 
 DEFAULT_TIMEOUT = 6 * 3600.0  # s per case: far above any case of analysis/sweeps/*.json; it stops a hung case
 
@@ -45,13 +45,7 @@ DEFAULT_TIMEOUT = 6 * 3600.0  # s per case: far above any case of analysis/sweep
 def load_spec(path: str) -> dict:
     """The sweep specification, checked; raises SpecError with one line."""
     spec = load_json(path)
-    known = {"description", "scene", "end_time", "spacings", "methods", "reference_speed"}
-    for key in spec:
-        if key not in known:
-            raise SpecError(f"{path}: {key}: unknown key (expected one of: {', '.join(sorted(known))})")
-    for key in ("scene", "spacings", "methods"):
-        if key not in spec:
-            raise SpecError(f"{path}: {key}: missing")
+    check_spec_keys(path, spec, {"description", "scene", "end_time", "spacings", "methods", "reference_speed"}, ("scene", "spacings", "methods"))
     if not spec["spacings"] or any(not isinstance(l0, (int, float)) or l0 <= 0 for l0 in spec["spacings"]):
         raise SpecError(f"{path}: spacings: expected a non-empty array of numbers > 0")
     for method, axes in spec["methods"].items():
@@ -146,12 +140,7 @@ def measure(folder: str, status: str) -> tuple[data.Run | None, dict]:
         "front_rms": math.nan, "front_rms_shifted": math.nan, "front_best_shift": math.nan,
     }
     if status == "completed" and len(run.series.get("time", [])) > 1:
-        exp_t, exp_z = data.martin_moyce_front()
-        t, z = run.front_curve()
-        rms, _, points = data.curve_error(t, z, exp_t, exp_z)
-        if points:
-            shifted = data.best_shift_error(t, z, exp_t, exp_z)
-            row.update({"front_rms": rms, "front_rms_shifted": shifted[0], "front_best_shift": shifted[3]})
+        row.update(data.front_errors(run))
     return run, row
 
 

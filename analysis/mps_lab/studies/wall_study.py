@@ -271,12 +271,7 @@ def dambreak_metrics(run: data.Run, scene: str, status: str) -> dict:
     if "pressure_obstacle_front" in run.series:
         row["obstacle_noise_kpa"] = sensor_noise(t, run.series["pressure_obstacle_front"]) / 1000.0
     if scene == "dambreak" and status == "completed" and len(t) > 1:
-        exp_t, exp_z = data.martin_moyce_front()
-        front_t, front_z = run.front_curve()
-        rms, _, points = data.curve_error(front_t, front_z, exp_t, exp_z)
-        if points:
-            shifted = data.best_shift_error(front_t, front_z, exp_t, exp_z)
-            row.update({"front_rms": rms, "front_rms_shifted": shifted[0], "front_best_shift": shifted[3]})
+        row.update(data.front_errors(run))
     return row
 
 
