@@ -2,7 +2,8 @@
 # Installs the Debian packages mps_lab needs, if any is missing. Safe to run again.
 set -euo pipefail
 packages=(build-essential cmake git libeigen3-dev libcli11-dev catch2 nlohmann-json3-dev
-          python3-numpy python3-matplotlib ffmpeg clang-format)
+          python3-numpy python3-matplotlib ffmpeg clang-format
+          libhypre-dev openmpi-bin)  # the last two: the solver comparison (lab/solver_comparison/)
 missing=()
 for package in "${packages[@]}"; do
   dpkg-query -W -f='${Status}' "$package" 2>/dev/null | grep -q "install ok installed" || missing+=("$package")

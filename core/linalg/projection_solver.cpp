@@ -70,6 +70,7 @@ ProjectionSolveStatistics ProjectionSolver::solve(const CsrMatrix& matrix, const
                                                   std::vector<double>& pressure) {
   ProjectionSolveStatistics statistics;
   if (matrix.rows == 0) return statistics;
+  if (observer_) observer_(matrix, rhs, settings);
   prepare_preconditioner(matrix, settings.preconditioner);
   gather_unknowns(pressure, particle_of, settings.warm_start, solution_);
 

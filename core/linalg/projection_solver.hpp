@@ -21,8 +21,10 @@
 //   "auto"                      amg from a fluid-particle count on, jacobi below
 //                               (choose_preconditioner; the count is the method's parameter).
 #include <cstddef>
+#include <functional>
 #include <memory>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "core/linalg/krylov.hpp"
@@ -72,8 +74,19 @@ struct ProjectionSolveStatistics {
   bool converged = true;
 };
 
+struct ProjectionSolverSettings;
+
+// Sees each pressure system a ProjectionSolver is about to solve (matrix, right-hand side and
+// settings), before anything is changed: the solver comparison (lab/solver_comparison/) records
+// a method's systems with it. Empty by default: a run pays nothing for it.
+using PressureSystemObserver =
+    std::function<void(const CsrMatrix& matrix, const std::vector<double>& rhs, const ProjectionSolverSettings&)>;
+
 class ProjectionSolver {
  public:
+  // Calls `observer` with every system solve() receives from now on (empty: none).
+  void observe(PressureSystemObserver observer) { observer_ = std::move(observer); }
+
   // Solves matrix p = rhs (rhs has matrix.rows entries) and writes p of row r to
   // pressure[particle_of[r]]. Nothing is done (and nothing written) for an empty matrix.
   ProjectionSolveStatistics solve(const CsrMatrix& matrix, const std::vector<double>& rhs,
@@ -84,6 +97,7 @@ class ProjectionSolver {
   void prepare_preconditioner(const CsrMatrix& matrix, PreconditionerKind kind);
 
   PreconditionerKind kind_ = PreconditionerKind::Jacobi;
+  PressureSystemObserver observer_;
   std::unique_ptr<Preconditioner> preconditioner_;
   std::vector<double> solution_;  // Pa
   KrylovWorkspace workspace_;

@@ -69,14 +69,15 @@ bool wants_wall_particles(const Scene& scene, const MethodInfo& info) {
 
 }  // namespace
 
-Simulation::Simulation(const Scene& scene, const MethodInfo& info)
+Simulation::Simulation(const Scene& scene, const MethodInfo& info, PressureSystemObserver pressure_system_observer)
     : scene_(scene),
       info_(info),
       particles_(build_particles(scene, wants_wall_particles(scene, info))),
       monitor_(scene, scene.stability) {
   for (const auto& field : info.fields) particles_.add_field(field.name);
   const MethodConfig& config = scene.method_config(info.name);
-  method_ = info.create(MethodSetup{scene, config.parameters, config.wall_treatments, &timers_});
+  method_ = info.create(
+      MethodSetup{scene, config.parameters, config.wall_treatments, &timers_, std::move(pressure_system_observer)});
   check_all_read(config.parameters, "method '" + info.name + "'");
   method_->initialise(particles_);
   monitor_.start(particles_);

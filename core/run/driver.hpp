@@ -26,7 +26,8 @@ class CheckpointReader;
 
 class Simulation {
  public:
-  Simulation(const Scene& scene, const MethodInfo& method);
+  // `pressure_system_observer` goes to the method (MethodSetup): empty in a run.
+  Simulation(const Scene& scene, const MethodInfo& method, PressureSystemObserver pressure_system_observer = {});
 
   // Advances one step; returns the step's report. The stability monitor checks the new
   // state and throws RunStopped when the scene's "stability" block says the run must stop

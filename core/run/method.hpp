@@ -19,6 +19,7 @@
 
 #include "core/base/parameters.hpp"
 #include "core/base/particles.hpp"
+#include "core/linalg/projection_solver.hpp"
 #include "core/run/profile.hpp"
 #include "core/walls/wall_treatment.hpp"
 
@@ -78,6 +79,10 @@ struct MethodSetup {
   // The run's per-phase timers (core/run/profile.hpp); null outside a run. A method times its
   // phases with them and hands them to its WallTreatmentSet.
   PhaseTimers* timers = nullptr;
+  // Sees every pressure system the method's projection solver receives (core/linalg/
+  // projection_solver.hpp); empty in a run. Methods that solve a linear pressure system hand it
+  // to their ProjectionSolver; the solver comparison (lab/solver_comparison/) sets it.
+  PressureSystemObserver pressure_system_observer;
 };
 
 struct MethodInfo {

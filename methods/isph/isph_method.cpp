@@ -63,6 +63,7 @@ class IsphMethod final : public Method {
         kernel_(sph_kernel_from_name(setup.parameters.string("kernel")),
                 2.0 * setup.parameters.number("smoothing_length") * setup.scene.particle_spacing) {
     const auto& p = setup.parameters;
+    ppe_.observe(setup.pressure_system_observer);
     const double l0 = scene_.particle_spacing;
     const double h = p.number("smoothing_length") * l0;
     rest_density_ = scene_.physics.density;

@@ -31,6 +31,7 @@
 // (ILU(0)) or amg.
 // The matrix is assembled straight into compressed rows (core/linalg/sparse_matrix.hpp), rows in
 // parallel, into storage kept from step to step.
+#include <utility>
 #include <vector>
 
 #include <Eigen/Sparse>
@@ -68,6 +69,9 @@ struct PressureSolveResult {
 
 class PressurePoissonSolver {
  public:
+  // Hands `observer` to the projection solver (MethodSetup::pressure_system_observer).
+  void observe(PressureSystemObserver observer) { solver_.observe(std::move(observer)); }
+
   // Assembles and solves; writes particles.pressure of every fluid and wall particle (0 for
   // surface fluid, for walls without fluid neighbours and for ghosts). `density` as in
   // isph_operators.hpp; `free_surface[i]` != 0 marks Dirichlet fluid particles; `source[i]`

@@ -11,6 +11,7 @@
 //
 // The matrix is assembled straight into compressed rows (core/linalg/sparse_matrix.hpp), rows in
 // parallel, into storage kept from step to step.
+#include <utility>
 #include <vector>
 
 #include <Eigen/Sparse>
@@ -47,6 +48,9 @@ struct PressureSolveResult {
 
 class PressurePoissonSolver {
  public:
+  // Hands `observer` to the projection solver (MethodSetup::pressure_system_observer).
+  void observe(PressureSystemObserver observer) { solver_.observe(std::move(observer)); }
+
   // Free surface, matrix and right-hand side (spec §5.2-5, §8): sets free_surface[i] = 1 and
   // P = 0 for surface particles; fills unknowns, surface and ungrounded_groups of the result.
   // `n0` is the number-density constant of the source term, `laplacian` the radius and
