@@ -21,3 +21,5 @@ if [ "$(id -u)" -eq 0 ]; then mpirun_flags+=(--allow-run-as-root); fi
 OMP_NUM_THREADS=1 mpirun "${mpirun_flags[@]}" build/mps_lab_solver_bench scenes/dambreak.json --spacings "$spacings" \
   --json "$out/solver_comparison_2ranks.json"
 echo "load after: $(cut -d' ' -f1-3 /proc/loadavg)"
+/usr/bin/python3 analysis/solver_comparison.py "$out/solver_comparison_1rank.json" "$out/solver_comparison_2ranks.json" \
+  --out "$out/solver_comparison.md"
