@@ -98,6 +98,7 @@ int run_command(const RunCommand& command) {
   options.overrides = command.set;
   options.end_time = command.end_time;
   options.checkpoint_every_steps = command.checkpoint_every;
+  options.threads = command.threads;
   return run_with_options(options, command.quiet, command.profile);
 }
 
@@ -137,6 +138,7 @@ int resume_command(const ResumeCommand& command) {
   options.resume_directory = command.directory;
   options.end_time = command.end_time;
   options.checkpoint_every_steps = command.checkpoint_every;
+  options.threads = command.threads;
   return run_with_options(options, command.quiet, command.profile);
 }
 

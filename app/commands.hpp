@@ -15,6 +15,7 @@ struct RunCommand {
   std::vector<std::string> set;
   std::optional<double> end_time;
   std::optional<long long> checkpoint_every;
+  int threads = 0;  // 0: chosen by measurement (core/run/thread_governor.hpp)
   bool quiet = false;
   bool profile = false;  // print the per-phase profile (run.json "profile") at the end
 };
@@ -23,6 +24,7 @@ struct ResumeCommand {
   std::string directory;
   std::optional<double> end_time;
   std::optional<long long> checkpoint_every;
+  int threads = 0;  // 0: chosen by measurement (core/run/thread_governor.hpp)
   bool quiet = false;
   bool profile = false;  // print the per-phase profile (run.json "profile") at the end
 };

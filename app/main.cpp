@@ -32,6 +32,11 @@ CLI::App* add_run_command(CLI::App& app, mps_lab::app::RunCommand& run) {
   run_app->add_option("--checkpoint-every", run.checkpoint_every,
                       "write the full state to <out>/checkpoint.bin every N steps, for `mps_lab resume` "
                       "(overrides output.checkpoint_every_steps; 0: only when stopped by Ctrl-C/SIGTERM)");
+  run_app
+      ->add_option("--threads", run.threads,
+                   "OpenMP threads of every step (default 0: one thread or all, whichever the last measurement found "
+                   "faster; docs/performance.md)")
+      ->check(CLI::NonNegativeNumber);
   run_app->add_flag("--quiet,-q", run.quiet, "no progress line and no summary line");
   run_app->add_flag("--profile", run.profile,
                     "print where the time went at the end: seconds, share and ms per step of each phase "
@@ -50,6 +55,11 @@ CLI::App* add_resume_command(CLI::App& app, mps_lab::app::ResumeCommand& resume)
   resume_app->add_option("--end-time", resume.end_time, "simulated end time in s (default: the run's)");
   resume_app->add_option("--checkpoint-every", resume.checkpoint_every,
                          "checkpoint every N steps (default: as the run did)");
+  resume_app
+      ->add_option("--threads", resume.threads,
+                   "OpenMP threads of every step (default 0: one thread or all, whichever the last measurement found "
+                   "faster; docs/performance.md)")
+      ->check(CLI::NonNegativeNumber);
   resume_app->add_flag("--quiet,-q", resume.quiet, "no progress line and no summary line");
   resume_app->add_flag("--profile", resume.profile, "print the per-phase profile of this session at the end");
   return resume_app;

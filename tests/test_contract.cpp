@@ -95,6 +95,7 @@ fs::path dambreak_run(const MethodInfo& method, int threads, const std::string& 
   options.method = method.name;
   options.output_directory = out.string();
   options.overrides = {"particle_spacing=0.0125", "time.end_time=0.06", "output.frame_interval=0.01"};
+  options.threads = threads;  // every step with this team (no measured choice, core/run/thread_governor.hpp)
   const RunResult result = run_simulation(options, registries().methods, registries().walls);
   omp_set_num_threads(previous);
   REQUIRE(result.status == "completed");

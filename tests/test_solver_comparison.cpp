@@ -20,7 +20,8 @@ double largest_asymmetry(const mps_lab::CsrMatrix& matrix) {
       for (int l = matrix.row_start[column]; l < matrix.row_start[column + 1]; ++l) {
         if (matrix.column[l] == row) transposed += matrix.value[l];
       }
-      largest = std::max(largest, std::abs(matrix.value[k] - transposed) / std::abs(matrix.value[matrix.row_start[row]]));
+      largest =
+          std::max(largest, std::abs(matrix.value[k] - transposed) / std::abs(matrix.value[matrix.row_start[row]]));
     }
   }
   return largest;

@@ -14,6 +14,7 @@
 #include "core/io/geometry.hpp"
 #include "core/io/output.hpp"
 #include "core/run/profile.hpp"
+#include "core/run/thread_governor.hpp"
 
 namespace mps_lab {
 
@@ -425,7 +426,8 @@ class RunSession {
         next_series_time_(scene_.output.series_interval),
         timers_(simulation_.timers()),
         output_phase_(timers_.phase("output")),
-        diagnostics_phase_(timers_.phase("diagnostics")) {}
+        diagnostics_phase_(timers_.phase("diagnostics")),
+        governor_(ThreadGovernorSettings{omp_get_max_threads(), options.threads}) {}
 
   RunResult run();
 
@@ -467,6 +469,7 @@ class RunSession {
   double first_time_ = 0.0;
   bool show_progress_ = false;
   Clock::time_point last_progress_;
+  ThreadGovernor governor_;
 };
 
 // checkpoint.bin of the run folder: the simulation's sections, the driver's ("run") and the
@@ -598,7 +601,10 @@ std::string RunSession::advance_to_end() {
   const long long checkpoint_every = scene_.output.checkpoint_every_steps;
   std::string stop_reason;
   while (simulation_.time() + 1e-6 * simulation_.method().time_step(simulation_.particles()) < scene_.time.end_time) {
+    governor_.next_team();
+    const auto step_started = Clock::now();
     simulation_.advance();
+    governor_.record(seconds_since(step_started));
     const long long step = simulation_.steps();
     const bool frame_by_time = crossed(scene_.output.frame_interval, next_frame_time_);
     const bool series_by_time = crossed(scene_.output.series_interval, next_series_time_);
@@ -671,7 +677,8 @@ void RunSession::write_final_summary(const RunResult& result) {
   // This session's phases (a resumed run profiles the steps since it resumed).
   summary_["profile"] =
       profile_json(timers_, seconds_since(started_), simulation_.steps() - first_step_, initial_.fluid);
-  summary_["profile"]["threads"] = omp_get_max_threads();
+  summary_["profile"]["threads"] = governor_.summary().at("max_threads");
+  summary_["threads_used"] = governor_.summary();
   // The process's peak resident memory (the whole program: at 1e6 particles the particle
   // data dominates; for small scenes the program's own ~10 MB does).
   const std::size_t peak_memory = peak_resident_memory_bytes();

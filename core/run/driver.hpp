@@ -87,7 +87,9 @@ struct RunOptions {
   std::vector<std::string> overrides;               // "dotted.key=value"
   std::optional<double> end_time;                   // s, overrides time.end_time
   std::optional<long long> checkpoint_every_steps;  // overrides output.checkpoint_every_steps
-  bool progress = false;                            // progress line on stderr
+  // OpenMP threads of every step; 0: chosen by measurement (core/run/thread_governor.hpp).
+  int threads = 0;
+  bool progress = false;  // progress line on stderr
   // Polled after every step. A non-empty answer (the reason, e.g. "SIGTERM") stops the run
   // after that step: checkpoint.bin, a final frame, run.json with status "interrupted".
   std::function<std::string()> stop_reason;

@@ -124,7 +124,8 @@ KrylovRun run_krylov(const PressureSystem& system, HYPRE_ParCSRMatrix a, HYPRE_P
   symmetric ? HYPRE_ParCSRPCGSolve(krylov, a, b, x) : HYPRE_ParCSRBiCGSTABSolve(krylov, a, b, x);
   MPI_Barrier(communicator);
   run.solve_seconds = seconds_since(solve_start);
-  symmetric ? HYPRE_ParCSRPCGGetNumIterations(krylov, &iterations) : HYPRE_ParCSRBiCGSTABGetNumIterations(krylov, &iterations);
+  symmetric ? HYPRE_ParCSRPCGGetNumIterations(krylov, &iterations)
+            : HYPRE_ParCSRBiCGSTABGetNumIterations(krylov, &iterations);
   symmetric ? HYPRE_ParCSRPCGDestroy(krylov) : HYPRE_ParCSRBiCGSTABDestroy(krylov);
   run.iterations = iterations;
   return run;

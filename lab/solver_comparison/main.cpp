@@ -75,10 +75,14 @@ void check_case(const PressureSystem& system, const nlohmann::json& solves, doub
 }
 
 nlohmann::json measure_json(const SolveMeasure& m) {
-  return {{"setup_seconds", m.setup_seconds}, {"solve_seconds", m.solve_seconds},
-          {"iterations", m.iterations},       {"residual", m.residual},
-          {"memory_bytes", m.memory_bytes},   {"converged", m.converged},
-          {"levels", m.levels},               {"operator_complexity", m.operator_complexity}};
+  return {{"setup_seconds", m.setup_seconds},
+          {"solve_seconds", m.solve_seconds},
+          {"iterations", m.iterations},
+          {"residual", m.residual},
+          {"memory_bytes", m.memory_bytes},
+          {"converged", m.converged},
+          {"levels", m.levels},
+          {"operator_complexity", m.operator_complexity}};
 }
 
 void print_row(const PressureSystem& system, const char* solver, int parallelism, const SolveMeasure& m) {
@@ -130,14 +134,16 @@ nlohmann::json run_comparison(const BenchOptions& options, int ranks, int rank) 
   const mps_lab::WallTreatmentRegistry walls = mps_lab::builtin_wall_treatments();
   nlohmann::json cases = nlohmann::json::array();
   if (rank == 0) {
-    std::printf("method   spacing  unknowns   nonzeros  solver     np  setup [s] solve [s] iters  residual  heap B/row\n");
+    std::printf(
+        "method   spacing  unknowns   nonzeros  solver     np  setup [s] solve [s] iters  residual  heap B/row\n");
   }
   for (double spacing : options.spacings) {
     for (const mps_lab::MethodInfo* method : methods.all()) {
       PressureSystem system;
       const std::vector<std::string> overrides{"particle_spacing=" + mps_lab::format_double(spacing)};
       omp_set_num_threads(options.threads.back());
-      if (!mps_lab::record_pressure_system(options.scene, overrides, methods, *method, walls, options.from_step, system)) {
+      if (!mps_lab::record_pressure_system(options.scene, overrides, methods, *method, walls, options.from_step,
+                                           system)) {
         if (rank == 0) std::printf("%-6s %9.5f  solves no linear pressure system\n", method->name.c_str(), spacing);
         continue;
       }

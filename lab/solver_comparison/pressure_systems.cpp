@@ -27,13 +27,11 @@ double heap_bytes_in_use() {
   return static_cast<double>(info.uordblks + info.hblkhd);
 }
 
-namespace {
-
-}  // namespace
+namespace {}  // namespace
 
 bool record_pressure_system(const std::string& scene_path, const std::vector<std::string>& overrides,
-                            const MethodRegistry& methods, const MethodInfo& method,
-                            const WallTreatmentRegistry& walls, long long from_step, PressureSystem& system) {
+                            const MethodRegistry& methods, const MethodInfo& method, const WallTreatmentRegistry& walls,
+                            long long from_step, PressureSystem& system) {
   std::vector<std::string> scene_overrides = overrides;
   scene_overrides.push_back("method=" + method.name);
   const Scene scene = load_scene(scene_path, scene_overrides, methods, walls);
@@ -61,7 +59,8 @@ double relative_residual(const CsrMatrix& matrix, const std::vector<double>& rhs
   double residual_squared = 0.0, rhs_squared = 0.0;
   for (int row = 0; row < matrix.rows; ++row) {
     double product = 0.0;
-    for (int k = matrix.row_start[row]; k < matrix.row_start[row + 1]; ++k) product += matrix.value[k] * x[matrix.column[k]];
+    for (int k = matrix.row_start[row]; k < matrix.row_start[row + 1]; ++k)
+      product += matrix.value[k] * x[matrix.column[k]];
     const double difference = rhs[row] - product;
     residual_squared += difference * difference;
     rhs_squared += rhs[row] * rhs[row];

@@ -32,15 +32,15 @@ struct PressureSystem {
 // at or after step `from_step` (1 = the first step), and returns that system; false when none
 // came within `from_step` + 2 steps (the method solves no linear pressure system).
 bool record_pressure_system(const std::string& scene_path, const std::vector<std::string>& overrides,
-                            const MethodRegistry& methods, const MethodInfo& method,
-                            const WallTreatmentRegistry& walls, long long from_step, PressureSystem& system);
+                            const MethodRegistry& methods, const MethodInfo& method, const WallTreatmentRegistry& walls,
+                            long long from_step, PressureSystem& system);
 
 // One solve of a system from a zero initial guess.
 struct SolveMeasure {
   double setup_seconds = 0.0;  // the preconditioner's set-up
   double solve_seconds = 0.0;  // the Krylov iterations
   long long iterations = 0;
-  double residual = 0.0;  // ||b - A x|| / ||b||, recomputed with the project's own product
+  double residual = 0.0;      // ||b - A x|| / ||b||, recomputed with the project's own product
   double memory_bytes = 0.0;  // heap the preconditioner and the Krylov workspace hold after the solve (all ranks)
   int levels = 0;
   double operator_complexity = 0.0;
