@@ -61,8 +61,8 @@ double divergence_term(const Vec2& r_ij, const Vec2& u_ij, const OperatorRadius&
 
 // sum_j pair(r_ij, u_ij) + sum_w V_w pair(r_iw, u_w - u_i) for every non-ghost particle.
 template <class Pair>
-void pair_sum(const ParticleSet& particles, const NeighbourList& neighbours, const WallSampleList& samples,
-              Pair pair, std::vector<double>& out) {
+void pair_sum(const ParticleSet& particles, const NeighbourList& neighbours, const WallSampleList& samples, Pair pair,
+              std::vector<double>& out) {
   const auto n = static_cast<std::ptrdiff_t>(particles.size());
   out.assign(particles.size(), 0.0);
 #pragma omp parallel for schedule(static)
@@ -104,7 +104,7 @@ void velocity_divergence(const ParticleSet& particles, const NeighbourList& neig
 
 double source_term(SourceTermScheme scheme, const SourceTermInputs& in, std::size_t i) {
   const double deviation = (in.number_density[i] - in.n0) / in.n0;  // (n*_i - n0)/n0
-  const double rate = in.rate[i];                                    // Dn/Dt or <div u*>, 1/s
+  const double rate = in.rate[i];                                   // Dn/Dt or <div u*>, 1/s
   switch (scheme) {
     case SourceTermScheme::Hs:  // Khayyer & Gotoh (2009): (rho / (n0 dt)) Dn/Dt
       return in.density / (in.n0 * in.dt) * rate;
@@ -140,10 +140,9 @@ namespace {
 
 // Phat_i: the minimum pressure over i's pressure-carrying neighbours and wall samples within re,
 // and over i itself when asked (the spec's P_min), for every pressure-carrying particle.
-void neighbourhood_minimum(const ParticleSet& particles, const NeighbourList& neighbours,
-                           const WallSampleList& samples, const OperatorRadius& radius,
-                           const std::vector<char>& carries_pressure, double density, const Vec2& gravity,
-                           bool min_includes_self, std::vector<double>& out) {
+void neighbourhood_minimum(const ParticleSet& particles, const NeighbourList& neighbours, const WallSampleList& samples,
+                           const OperatorRadius& radius, const std::vector<char>& carries_pressure, double density,
+                           const Vec2& gravity, bool min_includes_self, std::vector<double>& out) {
   const auto n = static_cast<std::ptrdiff_t>(particles.size());
   out.assign(particles.size(), 0.0);
 #pragma omp parallel for schedule(static)
