@@ -13,6 +13,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "core/base/error.hpp"
 #include "core/io/checkpoint.hpp"
 #include "core/io/geometry.hpp"
 #include "core/io/output.hpp"
@@ -20,12 +21,17 @@
 #include "core/run/method.hpp"
 #include "methods/mps/mps_operators.hpp"
 #include "methods/mps/mps_pressure.hpp"
+#include "methods/mps/mps_schemes.hpp"
 
 namespace mps_lab::mps {
 namespace {
 
 // The wall hooks the step calls (MethodInfo::wall_hooks): all four points of spec §5.
 constexpr WallHooks kWallHooks = WallHooks::all();
+// Defaults of the source-term coefficients: the spec's relaxation (§3, the literal of its
+// declaration below) and Tanaka & Masunaga's gamma (2010).
+constexpr double kDefaultRelaxation = 0.2;
+constexpr double kDefaultMixedRelaxation = 0.01;
 
 class MpsMethod final : public Method {
  public:
@@ -66,6 +72,7 @@ class MpsMethod final : public Method {
     preconditioner_choice_ = p.string("preconditioner");
     amg_min_fluid_particles_ = static_cast<std::size_t>(p.integer("amg_min_fluid_particles"));
     settings_.clamp_negative = p.boolean("clamp_negative_pressure");
+    read_schemes(p);
   }
 
   void initialise(ParticleSet& particles) override {
@@ -117,6 +124,7 @@ class MpsMethod final : public Method {
             {"wall_treatments", walls_.names()},
             {"boundary_model", walls_.boundary_name()},
             {"preconditioner", preconditioner_name(settings_.preconditioner)},
+            {"schemes", scheme_names_},
             {"ghosts_created", ghosts_},
             {"ungrounded_groups_regularised", ungrounded_groups_},
             {"nonconverged_solves", nonconverged_solves_}};
@@ -154,6 +162,28 @@ class MpsMethod final : public Method {
   }
 
  private:
+  // The pressure schemes (mps_schemes.hpp). A coefficient of a source term that is not chosen
+  // would be ignored: set to other than its default, it is an input error.
+  void read_schemes(const ParameterValues& p) {
+    gradient_scheme_ = pressure_gradient_scheme(p.string("pressure_gradient"));
+    source_scheme_ = source_term_scheme(p.string("source_term"));
+    settings_.laplacian_scheme = ppe_laplacian_scheme(p.string("ppe_laplacian"));
+    mixed_relaxation_ = p.number("mixed_relaxation");
+    scheme_names_ = {{"pressure_gradient", p.string("pressure_gradient")},
+                     {"source_term", p.string("source_term")},
+                     {"ppe_laplacian", p.string("ppe_laplacian")}};
+    const std::string block = p.block_path().empty() ? std::string("methods.mps") : p.block_path();
+    if (source_scheme_ != SourceTermScheme::Spec && settings_.relaxation != kDefaultRelaxation) {
+      throw_input_error(scene_.source, block + ".relaxation",
+                        "applies to source_term spec only, got source_term " + p.string("source_term") +
+                            " (leave relaxation at " + format_double(kDefaultRelaxation) + ")");
+    }
+    if (source_scheme_ != SourceTermScheme::Mixed && mixed_relaxation_ != kDefaultMixedRelaxation) {
+      throw_input_error(scene_.source, block + ".mixed_relaxation",
+                        "applies to source_term mixed only, got source_term " + p.string("source_term"));
+    }
+  }
+
   // Spec §5.1: gravity and viscosity, u*, r*, with the wall hooks after the velocity and the
   // position.
   void explicit_step(ParticleSet& particles, double dt, WallContext& context) {
@@ -198,6 +228,7 @@ class MpsMethod final : public Method {
     }
     PressureSolveResult solve = [&] {  // 5.2-5 free surface, PPE matrix and right-hand side
       const auto timed = measure(timers_, assembly_phase_);
+      settings_.source_term = scheme_source_term(particles, dt);
       return ppe_.assemble(particles, neighbours_, samples_, n_star, carries_pressure_, laplacian_radius_,
                            density_radius_.n0, dt, settings_, particles.field("free_surface"));
     }();
@@ -209,14 +240,33 @@ class MpsMethod final : public Method {
     return solve;
   }
 
+  // b_i of the chosen source term at the provisional state (mps_schemes.hpp); null for the spec's.
+  const std::vector<double>* scheme_source_term(const ParticleSet& particles, double dt) {
+    if (source_scheme_ == SourceTermScheme::Spec) return nullptr;
+    const SourceTermInputs in{particles.field("number_density"),
+                              scheme_rate_,
+                              density_radius_.n0,
+                              dt,
+                              scene_.physics.density,
+                              mixed_relaxation_};
+    source_terms(source_scheme_, particles, neighbours_, samples_, density_radius_, in, scheme_rate_, scheme_source_);
+    return &scheme_source_;
+  }
+
   // Spec §5.2-8 to 5.2-11: the pressure acceleration, u and r corrected, the wall hook after
   // the correction, escaped particles to ghosts.
   void correct(ParticleSet& particles, double dt, WallContext& context) {
     const auto count = static_cast<std::ptrdiff_t>(particles.size());
     {
       const auto timed = measure(timers_, operators_phase_);
-      pressure_acceleration(particles, neighbours_, samples_, gradient_radius_, carries_pressure_,
-                            scene_.physics.density, scene_.physics.gravity, min_includes_self_, acceleration_);
+      if (gradient_scheme_ == PressureGradientScheme::Cmps) {  // Khayyer & Gotoh (2008)
+        cmps_pressure_acceleration(particles, neighbours_, samples_, gradient_radius_, carries_pressure_,
+                                   scene_.physics.density, scene_.physics.gravity, min_includes_self_,
+                                   minimum_pressure_, acceleration_);
+      } else {
+        pressure_acceleration(particles, neighbours_, samples_, gradient_radius_, carries_pressure_,
+                              scene_.physics.density, scene_.physics.gravity, min_includes_self_, acceleration_);
+      }
     }
     {
       const auto timed = measure(timers_, integration_phase_);
@@ -292,7 +342,14 @@ class MpsMethod final : public Method {
   int pressure_wall_layers_ = 1;
   bool min_includes_self_ = true;
   PressureSolveSettings settings_;
-  std::string preconditioner_choice_;  // the parameter: "auto" or a preconditioner
+  PressureGradientScheme gradient_scheme_ = PressureGradientScheme::Spec;
+  SourceTermScheme source_scheme_ = SourceTermScheme::Spec;
+  double mixed_relaxation_ = kDefaultMixedRelaxation;
+  std::vector<double> scheme_rate_;       // Dn/Dt or <div u*> of the source term, 1/s
+  std::vector<double> scheme_source_;     // b_i of the source term, Pa/m^2
+  std::vector<double> minimum_pressure_;  // Phat of CMPS, Pa
+  nlohmann::json scheme_names_;           // for run.json
+  std::string preconditioner_choice_;     // the parameter: "auto" or a preconditioner
   std::size_t amg_min_fluid_particles_ = 2000;
   std::vector<char> carries_pressure_;
   std::vector<Vec2> acceleration_;  // m/s^2
@@ -332,9 +389,25 @@ void mps_lab_register_method_mps(mps_lab::MethodRegistry& registry) {
       number_parameter("free_surface_threshold", 0.97, "", "beta: n*/n0 < beta marks a free-surface particle (spec §3)")
           .above(0.0)
           .below(1.0),
-      number_parameter("relaxation", 0.2, "", "pressure relaxation coefficient on the PPE source (spec §3)")
+      number_parameter("relaxation", 0.2, "",
+                       "pressure relaxation coefficient on the PPE source (spec §3); source_term spec only")
           .above(0.0)
           .at_most(1.0),
+      string_parameter("pressure_gradient", "spec",
+                       "pressure gradient: spec (§2, P_j - P_min) or cmps (Khayyer & Gotoh 2008, antisymmetric)")
+          .one_of(mps::pressure_gradient_choices()),
+      string_parameter("source_term", "spec",
+                       "PPE source: spec (§8, relaxation (n* - n0)/n0), hs (Khayyer & Gotoh 2009, Dn/Dt), ecs "
+                       "(Khayyer & Gotoh 2011, hs + error compensation) or mixed (Tanaka & Masunaga 2010)")
+          .one_of(mps::source_term_choices()),
+      number_parameter("mixed_relaxation", mps::kDefaultMixedRelaxation, "",
+                       "gamma of source_term mixed: weight of (n* - n0)/n0 beside div u* (Tanaka & Masunaga 2010)")
+          .above(0.0)
+          .at_most(1.0),
+      string_parameter("ppe_laplacian", "spec",
+                       "Laplacian of the PPE matrix: spec (§2, 2d/(n0 lambda) w) or hl (Khayyer & Gotoh 2010, "
+                       "re/(n0 r^3))")
+          .one_of(mps::ppe_laplacian_choices()),
       integer_parameter("cg_max_iterations", 10000, "conjugate-gradient iteration cap (spec §3)").at_least(1),
       number_parameter("cg_tolerance", 1.0e-8, "",
                        "CG stops at ||b - A p|| / ||b|| below this (spec §3, read as relative)")

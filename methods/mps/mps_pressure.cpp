@@ -16,10 +16,8 @@ void PressurePoissonSolver::assemble_row(const RowInputs& in, int row) {
   const WallSampleList& samples = in.samples;
   const std::vector<double>& number_density = in.number_density;
   const std::vector<char>& carries_pressure = in.carries_pressure;
-  const OperatorRadius& laplacian = in.laplacian;
   const PressureSolveSettings& settings = in.settings;
   const double n0 = in.n0;
-  const double coefficient = in.coefficient;
   const double source = in.source;
   const auto i = static_cast<std::size_t>(particle_of_[static_cast<std::size_t>(row)]);
   auto writer = assembler_.row(row);
@@ -28,8 +26,7 @@ void PressurePoissonSolver::assemble_row(const RowInputs& in, int row) {
   bool grounded = false;
   for_each_neighbour(neighbours, i, [&](std::uint32_t j) {
     if (!carries_pressure[j] || particles.type[j] == ParticleType::Ghost) return;
-    const double a =
-        coefficient * mps_weight((particles.position[j] - particles.position[i]).norm(), laplacian.re, laplacian.r_min);
+    const double a = laplacian_term(in, (particles.position[j] - particles.position[i]).norm());
     if (a == 0.0) return;
     diagonal += a;
     if (row_of_[j] >= 0) {
@@ -40,8 +37,7 @@ void PressurePoissonSolver::assemble_row(const RowInputs& in, int row) {
   });
   double wall_part = 0.0;  // known part of the wall samples' Laplacian terms, moved to b_i
   for_each_neighbour(samples, i, [&](const WallSample& wall) {
-    const double a = coefficient * wall.volume *
-                     mps_weight((wall.position - particles.position[i]).norm(), laplacian.re, laplacian.r_min);
+    const double a = wall.volume * laplacian_term(in, (wall.position - particles.position[i]).norm());
     if (a == 0.0) return;
     wall_part += a * sample_pressure_offset(wall, particles.position, settings.density, settings.gravity);
     if (wall.source == i) return;  // p_i - p_i
@@ -60,7 +56,18 @@ void PressurePoissonSolver::assemble_row(const RowInputs& in, int row) {
   writer.close();
   grounded_[static_cast<std::size_t>(row)] = grounded ? 1 : 0;
   // b_i = relaxation (rho/dt^2) (n*_i - n0)/n0   [sign: A = -<lap>]
+  if (settings.source_term != nullptr) {  // a scheme's source term (methods/mps/mps_schemes.hpp)
+    rhs_[static_cast<std::size_t>(row)] = (*settings.source_term)[i] + wall_part;
+    return;
+  }
   rhs_[static_cast<std::size_t>(row)] = source * (number_density[i] - n0) / n0 + wall_part;
+}
+
+double PressurePoissonSolver::laplacian_term(const RowInputs& in, double r) {
+  if (in.settings.laplacian_scheme == PpeLaplacianScheme::Hl) {
+    return higher_order_laplacian_coefficient(r, in.laplacian);  // Khayyer & Gotoh (2010)
+  }
+  return in.coefficient * mps_weight(r, in.laplacian.re, in.laplacian.r_min);  // spec §2
 }
 
 PressureSolveResult PressurePoissonSolver::assemble(ParticleSet& particles, const NeighbourList& neighbours,

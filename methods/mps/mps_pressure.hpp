@@ -21,6 +21,7 @@
 #include "core/linalg/sparse_matrix.hpp"
 #include "core/search/neighbour_search.hpp"
 #include "methods/mps/mps_operators.hpp"
+#include "methods/mps/mps_schemes.hpp"
 
 namespace mps_lab::mps {
 
@@ -35,6 +36,12 @@ struct PressureSolveSettings {
   // core/linalg/projection_solver.hpp: jacobi, incomplete_factorisation (IC(0) here) or amg
   PreconditionerKind preconditioner = PreconditionerKind::Jacobi;
   bool clamp_negative = true;  // spec §5.2-7
+  // The Laplacian of the PPE's matrix (methods/mps/mps_schemes.hpp): spec (spec §2) or hl
+  // (Khayyer & Gotoh 2010, with the radius and n0 of `laplacian`).
+  PpeLaplacianScheme laplacian_scheme = PpeLaplacianScheme::Spec;
+  // When not null, b_i = (*source_term)[i] (Pa/m^2, a source term of mps_schemes.hpp) replaces
+  // the spec's relaxation (rho/dt^2)(n*_i - n0)/n0; the free surface still follows n*.
+  const std::vector<double>* source_term = nullptr;
 };
 
 struct PressureSolveResult {
@@ -101,6 +108,8 @@ class PressurePoissonSolver {
     double source;       // relaxation rho / dt^2, kg/(m^3 s^2)
   };
   void assemble_row(const RowInputs& in, int row);
+  // a_ij of one pair at distance r (1/m^2): the spec's coefficient w_L(r) or the HL term.
+  static double laplacian_term(const RowInputs& in, double r);
 
   std::vector<int> row_of_;  // particle -> unknown index, -1 if not an unknown
   std::vector<int> particle_of_;

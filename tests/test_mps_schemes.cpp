@@ -1,0 +1,296 @@
+// The pressure-stabilising schemes of the mps method (methods/mps/mps_schemes.hpp,
+// docs/methods/mps.md "Pressure schemes"): each formula on a field whose value is computed by
+// hand, the vocabulary of the options, and their errors. The spec's scheme stays the default
+// (tests/test_mps_spec_*.cpp are unchanged).
+//
+// Hand sums on the square lattice of spacing l0 with re = 2.1 l0 (12 neighbours: 4 at l0, 4 at
+// sqrt(2) l0, 4 at 2 l0), in units of l0:
+//   n0 = 4 (2.1 - 1) + 4 (2.1/sqrt(2) - 1) + 4 (2.1/2 - 1) = 6.539697...
+//   S = sum_j cos^2(theta_j) / r_j = 2 (1) + 4 (0.5 / sqrt(2)) + 2 (1 / 2) = 3 + sqrt(2)
+// (cos^2 + sin^2 = 1 splits every sum over x_ij^2 and y_ij^2 equally).
+#include <cmath>
+#include <random>
+
+#include <catch2/catch.hpp>
+
+#include "core/base/error.hpp"
+#include "core/run/driver.hpp"
+#include "methods/mps/mps_operators.hpp"
+#include "methods/mps/mps_pressure.hpp"
+#include "methods/mps/mps_schemes.hpp"
+#include "support.hpp"
+
+using namespace mps_lab;
+using namespace mps_lab::mps;
+using namespace mps_lab::testing;
+
+namespace {
+
+constexpr double kL0 = 0.025;  // m
+constexpr double kRho = 1000.0;
+const Vec2 kGravity(0.0, -9.81);
+
+struct Block {
+  ParticleSet particles;
+  std::size_t centre = 0;
+};
+
+// A (2 half_width + 1)^2 block of fluid on the lattice; `centre` has full support.
+Block lattice_block(int half_width) {
+  Block block;
+  for (int j = -half_width; j <= half_width; ++j) {
+    for (int i = -half_width; i <= half_width; ++i) {
+      if (i == 0 && j == 0) block.centre = block.particles.size();
+      block.particles.add(Vec2(0.3 + i * kL0, 0.2 + j * kL0), Vec2::Zero(), ParticleType::Fluid);
+    }
+  }
+  return block;
+}
+
+OperatorRadius radius_21() { return make_operator_radius(kL0, 2.1 * kL0, 0.01 * kL0); }
+
+double hand_n0() { return 4.0 * 1.1 + 4.0 * (2.1 / std::sqrt(2.0) - 1.0) + 4.0 * (2.1 / 2.0 - 1.0); }
+
+constexpr double kLatticeS = 3.0 + 1.4142135623730951;  // S = sum cos^2 / r, in 1/l0
+
+}  // namespace
+
+TEST_CASE("schemes: the lattice constants of the hand sums", "[mps][schemes]") {
+  // The hand value of n0 above against the code's lattice constant (round-off only).
+  CHECK(radius_21().n0 == Approx(hand_n0()).epsilon(1e-12));
+}
+
+TEST_CASE("CMPS gradient: a hand-computed pair sum on three particles", "[mps][schemes]") {
+  // A = (0, 0), B = (l0, 0), C = (0, l0); p = 100, 300, 200 Pa. Every pair is within re = 2.1 l0:
+  // w(l0) = 1.1, w(sqrt 2 l0) = 2.1/sqrt 2 - 1. Phat (min over the neighbourhood and self) is
+  // 100 Pa for all three. For B: pair BA: (300 + 100) - (100 + 100) = 200 over l0^2 along
+  // (-l0, 0); pair BC: (300 + 200) - 200 = 300 over 2 l0^2 along (-l0, l0). The spec's gradient
+  // gives (P_j - Phat_B): 0 and 100 instead, so the check tells the two apart.
+  ParticleSet p;
+  p.add(Vec2(0.0, 0.0), Vec2::Zero(), ParticleType::Fluid);
+  p.add(Vec2(kL0, 0.0), Vec2::Zero(), ParticleType::Fluid);
+  p.add(Vec2(0.0, kL0), Vec2::Zero(), ParticleType::Fluid);
+  p.pressure = {100.0, 300.0, 200.0};
+  const OperatorRadius radius = radius_21();
+  const NeighbourList list = find_neighbours(p.position, p.type, radius.re);
+  const std::vector<char> carries(3, 1);
+  std::vector<double> p_hat;
+  std::vector<Vec2> acceleration(3, Vec2::Zero());
+  cmps_pressure_acceleration(p, list, WallSampleList{}, radius, carries, kRho, kGravity, true, p_hat, acceleration);
+  CHECK(p_hat == std::vector<double>{100.0, 100.0, 100.0});
+  const double w_diagonal = 2.1 / std::sqrt(2.0) - 1.0;
+  const Vec2 sum_b = 200.0 * 1.1 / (kL0 * kL0) * Vec2(-kL0, 0.0) +
+                     300.0 * w_diagonal / (2.0 * kL0 * kL0) * Vec2(-kL0, kL0);  // Pa/m^2 * m
+  const Vec2 expected_b = -(2.0 / radius.n0) / kRho * sum_b;                    // -(1/rho)(d/n0) sum
+  CHECK(acceleration[1].x() == Approx(expected_b.x()).epsilon(1e-12));
+  CHECK(acceleration[1].y() == Approx(expected_b.y()).epsilon(1e-12));
+}
+
+TEST_CASE("CMPS gradient conserves linear momentum - the spec's does not", "[mps][schemes]") {
+  // Equal masses: the pair force of j on i is minus that of i on j, so the accelerations of an
+  // isolated group sum to zero up to round-off (1e-12 of the summed magnitudes: each of ~12 terms
+  // per particle carries a relative rounding error of ~1e-16; measured: exactly 0). The spec's
+  // (P_j - Phat_i) form leaves a net force of 0.054 (P_min with i) and 0.057 (without) of the
+  // summed magnitudes here (measured, seed 7), so the check at 1e-2 discriminates.
+  Block block = lattice_block(5);
+  auto& p = block.particles;
+  std::mt19937 random(7);
+  std::uniform_real_distribution<double> jitter(-0.2 * kL0, 0.2 * kL0), pressure(0.0, 5000.0);
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    p.position[i] += Vec2(jitter(random), jitter(random));
+    p.pressure[i] = pressure(random);
+  }
+  const OperatorRadius radius = radius_21();
+  const NeighbourList list = find_neighbours(p.position, p.type, radius.re);
+  const std::vector<char> carries(p.size(), 1);
+  for (bool include_self : {true, false}) {
+    std::vector<double> p_hat;
+    std::vector<Vec2> cmps(p.size(), Vec2::Zero()), spec(p.size(), Vec2::Zero());
+    cmps_pressure_acceleration(p, list, WallSampleList{}, radius, carries, kRho, kGravity, include_self, p_hat, cmps);
+    pressure_acceleration(p, list, WallSampleList{}, radius, carries, kRho, kGravity, include_self, spec);
+    Vec2 net_cmps = Vec2::Zero(), net_spec = Vec2::Zero();
+    double magnitude_cmps = 0.0, magnitude_spec = 0.0;
+    for (std::size_t i = 0; i < p.size(); ++i) {
+      net_cmps += cmps[i];
+      net_spec += spec[i];
+      magnitude_cmps += cmps[i].norm();
+      magnitude_spec += spec[i].norm();
+    }
+    INFO("min includes self: " << include_self);
+    CHECK(net_cmps.norm() <= 1e-12 * magnitude_cmps);
+    CHECK(net_spec.norm() >= 1e-2 * magnitude_spec);
+  }
+}
+
+TEST_CASE("CMPS gradient of a linear pressure on the lattice is zero", "[mps][schemes]") {
+  // p = a . x: Phat_j = p_j - c with the same c for every particle of the lattice, so the pair
+  // term (P_i + P_j) - (Phat_i + Phat_j) = 2c is the same for every pair, and
+  // sum_j r_ij / r^2 w = 0 by symmetry: the published form has no gradient of a linear field at
+  // a full-support particle (its force is the pair repulsion of the P - Phat excess; the spec's
+  // form returns a exactly, tests/test_mps_operators.cpp). Round-off: 1e-9 of |a| / rho.
+  Block block = lattice_block(6);
+  auto& p = block.particles;
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    p.pressure[i] = 5000.0 + 3000.0 * p.position[i].x() - 9810.0 * p.position[i].y();
+  }
+  const OperatorRadius radius = radius_21();
+  const NeighbourList list = find_neighbours(p.position, p.type, radius.re);
+  const std::vector<char> carries(p.size(), 1);
+  std::vector<double> p_hat;
+  std::vector<Vec2> acceleration(p.size(), Vec2::Zero());
+  cmps_pressure_acceleration(p, list, WallSampleList{}, radius, carries, kRho, kGravity, true, p_hat, acceleration);
+  const double scale = Vec2(3000.0, -9810.0).norm() / kRho;  // |grad p| / rho, m/s^2
+  CHECK(acceleration[block.centre].norm() <= 1e-9 * scale);
+}
+
+TEST_CASE("HL Laplacian of a quadratic pressure on the lattice: the hand sum", "[mps][schemes]") {
+  // p = x^2 + 3 y^2 (lap p = 8). The centre's row of the assembled PPE, -(A p)_c =
+  // sum_j (re / (n0 r^3)) (p_j - p_c); the linear part cancels by symmetry and
+  // sum_j (x_ij^2 + 3 y_ij^2) re / r^3 = re (1 + 3) S / l0, so the HL value is
+  // 2.1 * 4 * S / n0 = 5.670 (0.709 of the exact 8: the lattice truncation of re/r^3). The spec's
+  // Laplacian returns 8 on the lattice (by the choice of lambda), checked the same way.
+  Block block = lattice_block(6);
+  auto& p = block.particles;
+  const OperatorRadius radius = radius_21();
+  const NeighbourList list = find_neighbours(p.position, p.type, radius.re);
+  std::vector<double> n_star;
+  number_density(p, list, WallSampleList{}, radius, n_star);
+  const std::vector<char> carries(p.size(), 1);
+  for (PpeLaplacianScheme scheme : {PpeLaplacianScheme::Hl, PpeLaplacianScheme::Spec}) {
+    for (std::size_t i = 0; i < p.size(); ++i) {
+      const Vec2 x = p.position[i];
+      p.pressure[i] = x.x() * x.x() + 3.0 * x.y() * x.y();
+    }
+    PressureSolveSettings settings;
+    settings.laplacian_scheme = scheme;
+    std::vector<double> free_surface;
+    PressurePoissonSolver solver;
+    solver.assemble(p, list, WallSampleList{}, n_star, carries, radius, radius.n0, 5e-4, settings, free_surface);
+    // Unknowns in particle order; surface particles have P = 0 but are not neighbours of the centre.
+    Eigen::VectorXd unknown_pressure(solver.matrix().rows());
+    int row = 0, centre_row = -1;
+    for (std::size_t i = 0; i < p.size(); ++i) {
+      if (free_surface[i] != 0.0) continue;
+      if (i == block.centre) centre_row = row;
+      unknown_pressure[row++] = p.pressure[i];
+    }
+    REQUIRE(centre_row >= 0);
+    const double laplacian = -(solver.matrix().row(centre_row) * unknown_pressure)(0);
+    const double expected = scheme == PpeLaplacianScheme::Hl ? 2.1 * 4.0 * kLatticeS / hand_n0() : 8.0;
+    INFO((scheme == PpeLaplacianScheme::Hl ? "hl" : "spec"));
+    CHECK(laplacian == Approx(expected).epsilon(1e-9));
+  }
+}
+
+namespace {
+
+// The centre of a lattice block moving with u = (a x, b y) about the centre.
+struct FlowBlock {
+  Block block = lattice_block(4);
+  NeighbourList list;
+  std::vector<double> n_star;
+};
+
+FlowBlock uniform_strain(double a, double b) {
+  FlowBlock flow;
+  auto& p = flow.block.particles;
+  const Vec2 centre = p.position[flow.block.centre];
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    const Vec2 x = p.position[i] - centre;
+    p.velocity[i] = Vec2(a * x.x(), b * x.y());
+  }
+  flow.list = find_neighbours(p.position, p.type, 2.1 * kL0);
+  number_density(p, flow.list, WallSampleList{}, radius_21(), flow.n_star);
+  return flow;
+}
+
+}  // namespace
+
+TEST_CASE("HS source: Dn/Dt of a uniform compression and its b_i", "[mps][schemes]") {
+  // u = (a x, b y): r_ij . u_ij = a x_ij^2 + b y_ij^2, so Dn/Dt = -sum re/r^3 (a x^2 + b y^2)
+  // = -2.1 (a + b) S (dimensionless re/l0 times S in 1/l0 times l0^2/l0 ... = 1/s). With
+  // a = b = -1 /s: Dn/Dt = 4.2 S = 18.54 /s, b_i = rho / (n0 dt) Dn/Dt.
+  const double dt = 5e-4;
+  FlowBlock flow = uniform_strain(-1.0, -1.0);
+  const auto& p = flow.block.particles;
+  const OperatorRadius radius = radius_21();
+  std::vector<double> rate, b;
+  const SourceTermInputs in{flow.n_star, rate, radius.n0, dt, kRho, 0.01};
+  source_terms(SourceTermScheme::Hs, p, flow.list, WallSampleList{}, radius, in, rate, b);
+  const double expected_rate = 4.2 * kLatticeS;  // 1/s
+  CHECK(rate[flow.block.centre] == Approx(expected_rate).epsilon(1e-9));
+  CHECK(b[flow.block.centre] == Approx(kRho / (hand_n0() * dt) * expected_rate).epsilon(1e-9));
+  // A rigid translation changes no distance: Dn/Dt = 0 (round-off: 1e-9 of the value above).
+  FlowBlock still = uniform_strain(0.0, 0.0);
+  for (auto& u : still.block.particles.velocity) u = Vec2(0.7, -0.3);
+  number_density_rate(still.block.particles, still.list, WallSampleList{}, radius, rate);
+  CHECK(std::fabs(rate[still.block.centre]) <= 1e-9 * expected_rate);
+}
+
+TEST_CASE("ECS source: the error-compensating terms on prescribed n* and Dn/Dt", "[mps][schemes]") {
+  // n* = 1.02 n0, Dn/Dt = 18.54 /s (the HS case), dt = 5e-4 s: alpha = 0.02,
+  // beta = |dt Dn/Dt / n0| = 5e-4 * 18.54 / 6.54 = 1.417e-3;
+  // b = rho/(n0 dt) (1 + alpha) Dn/Dt + beta rho/dt^2 (0.02).
+  const double dt = 5e-4, n0 = hand_n0(), rate_value = 4.2 * kLatticeS;
+  const std::vector<double> n_star{1.02 * n0}, rate{rate_value};
+  const SourceTermInputs in{n_star, rate, n0, dt, kRho, 0.01};
+  const double beta = dt * rate_value / n0;
+  const double expected = kRho / (n0 * dt) * 1.02 * rate_value + beta * kRho / (dt * dt) * 0.02;
+  CHECK(source_term(SourceTermScheme::Ecs, in, 0) == Approx(expected).epsilon(1e-12));
+  // Expanding (Dn/Dt < 0, n* < n0): both terms turn negative; beta and alpha stay positive.
+  const std::vector<double> n_low{0.98 * n0}, rate_low{-rate_value};
+  const SourceTermInputs low{n_low, rate_low, n0, dt, kRho, 0.01};
+  CHECK(source_term(SourceTermScheme::Ecs, low, 0) == Approx(-expected).epsilon(1e-12));
+  // At n* = n0 ECS is HS times (1 + 0).
+  const std::vector<double> n_exact{n0};
+  const SourceTermInputs exact{n_exact, rate, n0, dt, kRho, 0.01};
+  CHECK(source_term(SourceTermScheme::Ecs, exact, 0) ==
+        Approx(source_term(SourceTermScheme::Hs, exact, 0)).epsilon(1e-12));
+}
+
+TEST_CASE("mixed source: velocity divergence of a uniform strain and the gamma term", "[mps][schemes]") {
+  // <div u> = (d/n0) sum (a x^2 + b y^2)/r^2 w = (2/n0)(a + b) sum cos^2 w = a + b exactly on the
+  // lattice (sum cos^2 w = n0/2). With a = 2, b = -0.5 /s: div u = 1.5 /s. At the centre n* = n0,
+  // so b_i = -(rho/dt) 1.5; with a prescribed n* = 1.01 n0 the gamma term adds
+  // gamma rho/dt^2 0.01.
+  const double dt = 5e-4, gamma = 0.01;
+  FlowBlock flow = uniform_strain(2.0, -0.5);
+  const OperatorRadius radius = radius_21();
+  std::vector<double> rate, b;
+  const SourceTermInputs in{flow.n_star, rate, radius.n0, dt, kRho, gamma};
+  source_terms(SourceTermScheme::Mixed, flow.block.particles, flow.list, WallSampleList{}, radius, in, rate, b);
+  CHECK(rate[flow.block.centre] == Approx(1.5).epsilon(1e-9));
+  CHECK(b[flow.block.centre] == Approx(-kRho / dt * 1.5).epsilon(1e-9));
+  const std::vector<double> n_star{1.01 * radius.n0}, one_rate{1.5};
+  const SourceTermInputs prescribed{n_star, one_rate, radius.n0, dt, kRho, gamma};
+  CHECK(source_term(SourceTermScheme::Mixed, prescribed, 0) ==
+        Approx(-kRho / dt * 1.5 + gamma * kRho / (dt * dt) * 0.01).epsilon(1e-12));
+}
+
+TEST_CASE("schemes: an unknown scheme name is a one-line error naming the key", "[mps][schemes][cli]") {
+  const std::vector<std::pair<std::string, std::string>> cases{
+      {"methods.mps.pressure_gradient=gradient", "one of: spec, cmps"},
+      {"methods.mps.source_term=hx", "one of: spec, hs, ecs, mixed"},
+      {"methods.mps.ppe_laplacian=hl2", "one of: spec, hl"}};
+  for (const auto& [assignment, expected] : cases) {
+    INFO(assignment);
+    const std::string key = assignment.substr(0, assignment.find('='));
+    CHECK_THROWS_AS(load("dambreak.json", {assignment}), InputError);
+    CHECK_THROWS_WITH(load("dambreak.json", {assignment}), Catch::Contains(key) && Catch::Contains(expected));
+  }
+}
+
+TEST_CASE("schemes: a coefficient of a source term not chosen is an error - not ignored", "[mps][schemes][cli]") {
+  RunOptions options;
+  options.scene_path = scene_path("dambreak.json");
+  options.method = "mps";
+  options.output_directory = fresh_directory("schemes_ignored_option").string();
+  options.overrides = {"methods.mps.source_term=hs", "methods.mps.relaxation=0.5", "time.end_time=0.001"};
+  CHECK_THROWS_AS(run_simulation(options, registries().methods, registries().walls), InputError);
+  CHECK_THROWS_WITH(run_simulation(options, registries().methods, registries().walls),
+                    Catch::Contains("methods.mps.relaxation") && Catch::Contains("source_term spec only"));
+  options.overrides = {"methods.mps.mixed_relaxation=0.05", "time.end_time=0.001"};
+  CHECK_THROWS_AS(run_simulation(options, registries().methods, registries().walls), InputError);
+  CHECK_THROWS_WITH(run_simulation(options, registries().methods, registries().walls),
+                    Catch::Contains("methods.mps.mixed_relaxation") && Catch::Contains("source_term mixed only"));
+}
