@@ -80,8 +80,9 @@ class WcsphMethod final : public Method {
     eos_.sound_speed = explicit_sound_speed > 0.0 ? explicit_sound_speed : sound_speed_factor_ * expected_.speed;
     sound_speed_source_ = explicit_sound_speed > 0.0 ? "sound_speed" : "sound_speed_factor x sqrt(2 g H)";
     if (!(eos_.sound_speed > 0.0)) {
-      throw InputError(scene_.source + ": methods.wcsph.sound_speed: got 0 with no fluid or no gravity to derive "
-                                       "it from, expected a speed of sound > 0 m/s");
+      throw InputError(scene_.source +
+                       ": methods.wcsph.sound_speed: got 0 with no fluid or no gravity to derive "
+                       "it from, expected a speed of sound > 0 m/s");
     }
     mass_ = eos_.rest_density * l0 * l0;
     diffusion_ = density_diffusion_from_name(p.string("density_diffusion"));
@@ -189,7 +190,8 @@ class WcsphMethod final : public Method {
       in.fail("wcsph state for " + std::to_string(acceleration_.size()) + " particles, the scene has " +
               std::to_string(n));
     }
-    if (samples_.has_samples() != !walls_.wall_particles() || (samples_.has_samples() && samples_.offsets.size() != n + 1)) {
+    if (samples_.has_samples() != !walls_.wall_particles() ||
+        (samples_.has_samples() && samples_.offsets.size() != n + 1)) {
       in.fail("wcsph wall samples that do not fit the boundary model " + walls_.boundary_name());
     }
   }
@@ -203,9 +205,9 @@ class WcsphMethod final : public Method {
       max_acceleration2 = std::max(max_acceleration2, acceleration_[i].squaredNorm());
     }
     const double h = smoothing_length_;
-    // The artificial viscosity acts as nu = alpha h c0 / 8 in 2-D (Monaghan 2005, sec. 4.1).
-    const double nu = viscosity_.model == Viscosity::Artificial ? viscosity_.alpha_h_c0 / 8.0
-                                                                : viscosity_.kinematic_viscosity;
+    // The artificial viscosity acts as nu = alpha h c0 / 8 in 2-D (Monaghan 2005).
+    const double nu =
+        viscosity_.model == Viscosity::Artificial ? viscosity_.alpha_h_c0 / 8.0 : viscosity_.kinematic_viscosity;
     return std::min({acoustic_time_step(time_step_settings_.cfl_number, scene_.particle_spacing, eos_.sound_speed,
                                         std::sqrt(max_speed2)),
                      viscous_time_step(h, nu), force_time_step(h, std::sqrt(max_acceleration2))});
@@ -234,7 +236,9 @@ class WcsphMethod final : public Method {
     for (std::size_t i = 0; i < particles.size(); ++i) {
       const bool fluid = particles.type[i] == ParticleType::Fluid;
       const double surface = fluid && block_of[i] >= 0 ? block_top[block_of[i]] + 0.5 * l0 : 0.0;
-      particles.pressure[i] = fluid && block_of[i] >= 0 ? std::max(0.0, eos_.rest_density * g * (surface - particles.position[i].y())) : 0.0;
+      particles.pressure[i] = fluid && block_of[i] >= 0
+                                  ? std::max(0.0, eos_.rest_density * g * (surface - particles.position[i].y()))
+                                  : 0.0;
       density[i] = fluid ? eos_.density(particles.pressure[i]) : eos_.rest_density;
     }
   }
@@ -283,10 +287,10 @@ class WcsphMethod final : public Method {
     }
     adami_wall_pressure(particles, neighbours_, kernel_, eos_, scene_.physics.gravity, clamp_wall_pressure_,
                         particles.pressure, predicted_density_);
-    const FluidState state{particles,          neighbours_,          samples_,
-                           kernel_,            mass_,                predicted_density_,
-                           predicted_velocity_, particles.pressure, eos_,
-                           scene_.physics.gravity, clamp_wall_pressure_};
+    const FluidState state{
+        particles,           neighbours_,         samples_,           kernel_, mass_,
+        predicted_density_,  predicted_velocity_, particles.pressure, eos_,    scene_.physics.gravity,
+        clamp_wall_pressure_};
     if (diffusion_ == DensityDiffusion::Antuono) renormalised_density_gradient(state, density_gradient_);
     continuity(state, density_rate_);
     density_diffusion(state, diffusion_, delta_ * smoothing_length_ * eos_.sound_speed, density_gradient_,
@@ -382,14 +386,14 @@ class WcsphMethod final : public Method {
   bool clamp_wall_pressure_ = true;
   CellList cells_;
   NeighbourList neighbours_;
-  WallSampleList samples_;                // of the boundary model, at the positions of the last search
-  std::vector<Vec2> acceleration_;        // a of the last evaluation, m/s^2
-  std::vector<double> density_rate_;      // D rho / Dt of the last evaluation, delta-term included, kg/(m^3 s)
-  std::vector<double> diffusion_rate_;    // the delta-term alone, kg/(m^3 s)
-  std::vector<Vec2> density_gradient_;    // <grad rho>^L, kg/m^4
-  std::vector<Vec2> predicted_velocity_;  // u~, m/s (walls 0)
+  WallSampleList samples_;                 // of the boundary model, at the positions of the last search
+  std::vector<Vec2> acceleration_;         // a of the last evaluation, m/s^2
+  std::vector<double> density_rate_;       // D rho / Dt of the last evaluation, delta-term included, kg/(m^3 s)
+  std::vector<double> diffusion_rate_;     // the delta-term alone, kg/(m^3 s)
+  std::vector<Vec2> density_gradient_;     // <grad rho>^L, kg/m^4
+  std::vector<Vec2> predicted_velocity_;   // u~, m/s (walls 0)
   std::vector<double> predicted_density_;  // rho~ (walls: Adami's rho_w), kg/m^3
-  TimeStepSettings time_step_settings_;   // core/run/time_step.hpp
+  TimeStepSettings time_step_settings_;    // core/run/time_step.hpp
   TimeStepClock clock_;
   double largest_deviation_ = 0.0;  // max |rho/rho0 - 1| over the run
   std::size_t ghosts_ = 0;
@@ -404,8 +408,7 @@ static std::vector<mps_lab::ParameterSpec> wcsph_parameters() {
   return {
       string_parameter("kernel", "wendland_c2", "SPH kernel (core/kernels/sph_kernels.hpp)")
           .one_of({"cubic_spline", "wendland_c2"}),
-      number_parameter("smoothing_length", 1.5, "l0",
-                       "h; the kernel support is 2h (<= 3 l0 = the three wall layers)")
+      number_parameter("smoothing_length", 1.5, "l0", "h; the kernel support is 2h (<= 3 l0 = the three wall layers)")
           .at_least(1.0)
           .at_most(1.5),
       number_parameter("sound_speed_factor", 10.0, "",
@@ -439,7 +442,8 @@ void mps_lab_register_method_wcsph(mps_lab::MethodRegistry& registry) {
       "weakly compressible SPH, delta-SPH density diffusion (Antuono et al. 2010; Marrone et al. 2011), Tait "
       "equation of state, kick-drift-kick, Adami walls: explicit, no linear solve";
   info.parameters = wcsph_parameters();
-  info.fields = {{"density", "kg/m^3", "density by the continuity equation with the delta-term (walls: Adami's)", true}};
+  info.fields = {
+      {"density", "kg/m^3", "density by the continuity equation with the delta-term (walls: Adami's)", true}};
   info.series_columns = {"mean_density_deviation", "max_density_deviation"};
   info.default_wall_treatments = {"adami_wall_particles"};
   // Continuity and momentum also sum over wall samples (the delta-term and the density gradient
@@ -447,9 +451,9 @@ void mps_lab_register_method_wcsph(mps_lab::MethodRegistry& registry) {
   info.wall_samples = true;
   info.wall_particle_models = {WallParticlePressure::AdamiExtrapolated};  // adami_wall_particles
   info.wall_hooks = wcsph::kWallHooks;
-  const auto time_step_specs = time_step_parameters(
-      {"cfl", 0.25, 1.0e-7, 1.0e-3, "0.25 l0 / (c0 + v_max) (Monaghan 1992: 0.25 h / c0 with h = l0)",
-       "1e-3 s: never reached with c0 >= 10 sqrt(2 g H)"});
+  const auto time_step_specs = time_step_parameters({"cfl", 0.25, 1.0e-7, 1.0e-3,
+                                                     "0.25 l0 / (c0 + v_max) (Monaghan 1992: 0.25 h / c0 with h = l0)",
+                                                     "1e-3 s: never reached with c0 >= 10 sqrt(2 g H)"});
   info.parameters.insert(info.parameters.end(), time_step_specs.begin(), time_step_specs.end());
   info.create = [](const MethodSetup& setup) { return std::make_unique<wcsph::WcsphMethod>(setup); };
   registry.add(std::move(info));

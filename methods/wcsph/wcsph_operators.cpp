@@ -44,7 +44,8 @@ DensityDiffusion density_diffusion_from_name(const std::string& name) {
   if (name == "none") return DensityDiffusion::None;
   if (name == "molteni_colagrossi") return DensityDiffusion::MolteniColagrossi;
   if (name == "antuono") return DensityDiffusion::Antuono;
-  throw std::invalid_argument("unknown density diffusion '" + name + "' (expected none, molteni_colagrossi or antuono)");
+  throw std::invalid_argument("unknown density diffusion '" + name +
+                              "' (expected none, molteni_colagrossi or antuono)");
 }
 
 void adami_wall_pressure(const ParticleSet& particles, const NeighbourList& neighbours, const SphKernel& kernel,
@@ -86,7 +87,7 @@ void renormalised_density_gradient(const FluidState& state, std::vector<Vec2>& g
       sum += (state.density[j] - state.density[i]) * volume * grad;
       moment -= volume * grad * r_ij.transpose();
     });
-    // Antuono et al. (2010) eq. 12: <grad rho>^L_i = L_i sum_j (rho_j - rho_i) grad W_ij V_j
+    // Antuono et al. (2010): <grad rho>^L_i = L_i sum_j (rho_j - rho_i) grad W_ij V_j
     gradient[i] = std::fabs(moment.determinant()) > kMinimumMomentDeterminant ? Vec2(moment.inverse() * sum) : sum;
   });
 }
@@ -109,7 +110,7 @@ void density_diffusion(const FluidState& state, DensityDiffusion form, double de
       if (renormalised) psi -= gradient[i] + gradient[j];
       sum += psi.dot(state.kernel.gradient(-r_ji)) * state.mass / state.density[j];
     });
-    out[i] = delta_h_c0 * sum;  // Antuono et al. (2010) eq. 9: delta h c0 sum_j psi_ij . grad W_ij V_j
+    out[i] = delta_h_c0 * sum;  // Antuono et al. (2010): delta h c0 sum_j psi_ij . grad W_ij V_j
   });
 }
 
@@ -146,11 +147,11 @@ struct PairTerm {
   Vec2 operator()(const Vec2& r_ij, double p_j, double rho_j, const Vec2& u_j, double m_j) const {
     const Vec2 grad = state.kernel.gradient(r_ij);
     const double volume = m_j / rho_j;
-    // Marrone et al. (2011) eq. 2: -(1/rho_i) sum_j (p_i + p_j) grad W_ij V_j
+    // Marrone et al. (2011): -(1/rho_i) sum_j (p_i + p_j) grad W_ij V_j
     Vec2 a = -(p_i + p_j) * volume / rho_i * grad;
     const double r2 = r_ij.squaredNorm() + viscosity.eta2;
     if (viscosity.model == Viscosity::Artificial) {
-      // Monaghan (1992), Antuono et al. (2010) eq. 9: alpha h c0 (rho0/rho_i) pi_ij grad W_ij V_j,
+      // Monaghan (1992), Antuono et al. (2010): alpha h c0 (rho0/rho_i) pi_ij grad W_ij V_j,
       // pi_ij = (u_j - u_i) . (x_j - x_i) / |x_j - x_i|^2
       const double pi_ij = (u_j - u_i).dot(-r_ij) / r2;
       a += viscosity.alpha_h_c0 * state.eos.rest_density / rho_i * pi_ij * volume * grad;
@@ -172,8 +173,8 @@ void momentum(const FluidState& state, const ViscositySettings& viscosity, std::
     Vec2 sum = state.gravity;
     for_each_neighbour(state.neighbours, i, [&](std::uint32_t j) {
       if (particles.type[j] == ParticleType::Ghost) return;
-      sum += pair(particles.position[i] - particles.position[j], state.pressure[j], state.density[j],
-                  state.velocity[j], state.mass);
+      sum += pair(particles.position[i] - particles.position[j], state.pressure[j], state.density[j], state.velocity[j],
+                  state.mass);
     });
     for_each_neighbour(state.samples, i, [&](const WallSample& wall) {
       if (particles.type[wall.source] == ParticleType::Ghost) return;

@@ -14,7 +14,7 @@
 // mass m V_w and velocity u_w = M_w u_s. The delta-term and the renormalised density gradient sum
 // over fluid neighbours only, with either boundary model (docs/methods/wcsph.md, "Walls").
 //
-// References (equation numbers in docs/methods/wcsph.md):
+// References (full citations in docs/methods/wcsph.md):
 //   Monaghan (1992), Annu. Rev. Astron. Astrophys. 30, 543-574: artificial viscosity.
 //   Morris, Fox & Zhu (1997), J. Comput. Phys. 136, 214-226: laminar viscosity.
 //   Molteni & Colagrossi (2009), Comput. Phys. Commun. 180, 861-872: density diffusion.
@@ -71,7 +71,7 @@ struct FluidState {
   const std::vector<Vec2>& velocity;
   const std::vector<double>& pressure;
   const TaitEquation& eos;
-  Vec2 gravity = Vec2(0.0, -9.81);     // m/s^2
+  Vec2 gravity = Vec2(0.0, -9.81);  // m/s^2
   bool clamp_negative_wall_pressure = true;
 };
 
@@ -84,7 +84,7 @@ void adami_wall_pressure(const ParticleSet& particles, const NeighbourList& neig
                          const TaitEquation& eos, const Vec2& gravity, bool clamp_negative,
                          std::vector<double>& pressure, std::vector<double>& density);
 
-// The renormalised density gradient of Antuono et al. (2010), eq. 12 (Randles & Libersky 1996):
+// The renormalised density gradient of Antuono et al. (2010) (Randles & Libersky 1996):
 //   <grad rho>^L_i = L_i sum_j (rho_j - rho_i) grad W_ij V_j,
 //   L_i = [sum_j grad W_ij (x_j - x_i)^T V_j]^-1,
 // over fluid neighbours, exact for a linear density whatever the support's truncation. Where
@@ -93,29 +93,29 @@ void adami_wall_pressure(const ParticleSet& particles, const NeighbourList& neig
 void renormalised_density_gradient(const FluidState& state, std::vector<Vec2>& gradient);
 
 // The delta-term alone, kg/(m^3 s), for fluid particles (0 elsewhere):
-//   D_i = delta h c0 sum_j psi_ij . grad W_ij V_j   (Antuono et al. 2010, eq. 9; Marrone 2011 eq. 2)
+//   D_i = delta h c0 sum_j psi_ij . grad W_ij V_j   (Antuono et al. 2010; Marrone et al. 2011)
 // over fluid neighbours, psi_ij by `form` (the gradient is read for Antuono only).
 void density_diffusion(const FluidState& state, DensityDiffusion form, double delta_h_c0,
                        const std::vector<Vec2>& gradient, std::vector<double>& out);
 
 // The continuity equation, kg/(m^3 s), for fluid particles (0 elsewhere):
-//   D rho_i / Dt = rho_i sum_j (u_i - u_j) . grad W_ij V_j   (Monaghan 1992; Marrone 2011 eq. 2)
+//   D rho_i / Dt = rho_i sum_j (u_i - u_j) . grad W_ij V_j   (Monaghan 1992; Marrone et al. 2011)
 // over every non-ghost neighbour (walls with u = 0) and wall sample (V_w = m V_w / rho_w).
 void continuity(const FluidState& state, std::vector<double>& out);
 
 // What the momentum equation adds besides the pressure gradient and gravity.
 struct ViscositySettings {
   Viscosity model = Viscosity::Artificial;
-  double alpha_h_c0 = 0.0;            // alpha h c0, m^2/s (artificial)
-  double kinematic_viscosity = 0.0;   // nu, m^2/s (laminar)
-  double eta2 = 0.0;                  // eta^2 = (0.1 h)^2 of both denominators, m^2
+  double alpha_h_c0 = 0.0;           // alpha h c0, m^2/s (artificial)
+  double kinematic_viscosity = 0.0;  // nu, m^2/s (laminar)
+  double eta2 = 0.0;                 // eta^2 = (0.1 h)^2 of both denominators, m^2
 };
 
 // The momentum equation, m/s^2, for fluid particles (0 elsewhere):
-//   a_i = g - (1/rho_i) sum_j (p_i + p_j) grad W_ij V_j              (Marrone 2011 eq. 2)
+//   a_i = g - (1/rho_i) sum_j (p_i + p_j) grad W_ij V_j              (Marrone et al. 2011)
 //       + artificial:  alpha h c0 (rho0 / rho_i) sum_j pi_ij grad W_ij V_j,
 //                      pi_ij = (u_j - u_i) . (x_j - x_i) / (|x_j - x_i|^2 + eta^2)
-//                      (Monaghan 1992, as written by Antuono et al. 2010 eq. 9)
+//                      (Monaghan 1992, as written by Antuono et al. 2010)
 //       | laminar:     nu sum_j m (rho_i + rho_j) / (rho_i rho_j) F_ij (u_i - u_j),
 //                      F_ij = r_ij . grad W_ij / (|r_ij|^2 + eta^2)   (Morris et al. 1997)
 // over every non-ghost neighbour and wall sample.
