@@ -451,9 +451,9 @@ void mps_lab_register_method_wcsph(mps_lab::MethodRegistry& registry) {
   info.wall_samples = true;
   info.wall_particle_models = {WallParticlePressure::AdamiExtrapolated};  // adami_wall_particles
   info.wall_hooks = wcsph::kWallHooks;
-  const auto time_step_specs = time_step_parameters({"cfl", 0.25, 1.0e-7, 1.0e-3,
-                                                     "0.25 l0 / (c0 + v_max) (Monaghan 1992: 0.25 h / c0 with h = l0)",
-                                                     "1e-3 s: never reached with c0 >= 10 sqrt(2 g H)"});
+  const auto time_step_specs = time_step_parameters(
+      {"cfl", 0.25, 1.0e-7, 1.0e-3, "0.25: a factor 3 below the largest stable 0.8 (docs/methods/wcsph.md)",
+       "1e-3 s: never reached with c0 >= 10 sqrt(2 g H)"});
   info.parameters.insert(info.parameters.end(), time_step_specs.begin(), time_step_specs.end());
   info.create = [](const MethodSetup& setup) { return std::make_unique<wcsph::WcsphMethod>(setup); };
   registry.add(std::move(info));
