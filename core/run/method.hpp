@@ -82,7 +82,7 @@ struct MethodSetup {
   // Sees every pressure system the method's projection solver receives (core/linalg/
   // projection_solver.hpp); empty in a run. Methods that solve a linear pressure system hand it
   // to their ProjectionSolver; the solver comparison (lab/solver_comparison/) sets it.
-  PressureSystemObserver pressure_system_observer;
+  PressureSystemObserver pressure_system_observer{};
 };
 
 struct MethodInfo {
