@@ -196,10 +196,15 @@ TEST_CASE("wall pressure: sensor keys - faces on the wall surface and one-line e
   CHECK_THROWS_WITH(load("hydrostatic.json", {sensor("\"position\": [-0.1, 0.1]")}),
                     Catch::Contains("diagnostics.pressure_sensors[0].position: got [-0.1,0.1], expected a point "
                                     "inside the domain"));
-  // A face that overhangs its wall (the bed surface ends at the left wall's surface, x = 0.0125 m).
-  CHECK_THROWS_WITH(load("hydrostatic.json", {sensor("\"position\": [0.02, 0.0125], \"diameter\": 0.05")}),
-                    Catch::Contains("diagnostics.pressure_sensors[0].diameter: got 0.05, expected a face within "
-                                    "its wall surface"));
+  // A face longer than the surface around it is cut at the corner: on the bed (surface from
+  // x = 0.0125 m) centred at x = 0.02 m with diameter 0.05 m, the face is [0.0125, 0.045] m,
+  // 0.0325 m long: 6 parts (at most l0/4 = 0.00625 m each), the first centre 0.0125 + 0.0325/12.
+  const std::vector<SensorFace> cut =
+      sensor_faces(load("hydrostatic.json", {sensor("\"position\": [0.02, 0.0125], \"diameter\": 0.05")}));
+  REQUIRE(cut.front().points.size() == 6);
+  CHECK(cut.front().points.front().x() == Approx(0.0125 + 0.0325 / 12.0).epsilon(1e-12));
+  CHECK(cut.front().points.back().x() == Approx(0.045 - 0.0325 / 12.0).epsilon(1e-12));
+  CHECK(cut.front().points.front().y() == Approx(0.0125).epsilon(1e-12));
   CHECK_NOTHROW(load("hydrostatic.json", {sensor("\"position\": [0.25, 0.0125], \"diameter\": 0.01")}));
   for (const char* name : {"dambreak.json", "dambreak_fine.json", "dambreak_large.json", "dambreak_obstacle.json"}) {
     INFO(name);

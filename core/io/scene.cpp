@@ -596,7 +596,8 @@ void check_obstacles(const std::string& source, const Scene& scene) {
 // A sensor lies on a wall: on a wall surface (core/walls/wall_geometry.hpp) or behind it up
 // to the wall's first particle line (the domain boundary for a tank side, the box for an
 // obstacle), l0/2 further, within 1e-3 l0 (decimal positions such as 0.9875 m); its face is
-// the position projected onto that surface and must lie whole on the surface's segment. A
+// centred on the position projected onto that surface, which must lie on the surface's
+// segment. A
 // position on the first particle line is thus valid at every particle_spacing (a scene run
 // with --set particle_spacing=...); and it must be inside the domain.
 constexpr double kSensorSurfaceTolerance = 1e-3;  // l0
@@ -621,13 +622,15 @@ void check_pressure_sensor(const std::string& source, const Scene& scene, const 
                           ", expected a point on a wall (walls.sides, walls.obstacles): on its surface or behind it "
                           "up to its first particle line, particle_spacing/2 further");
   }
+  // The position projected onto the surface must lie on the surface's segment (not past a
+  // corner or an open side); a face longer than the surface around it is cut there
+  // (sensor_faces, core/run/pressure_sensors.cpp).
   const Vec2 tangent = (segment->b - segment->a).normalized();
   const double along = tangent.dot(sensor.position - segment->a);
-  const double half = 0.5 * sensor.diameter;
-  if (along - half < -tolerance || along + half > (segment->b - segment->a).norm() + tolerance) {
-    throw_input_error(source, key + ".diameter",
-                      "got " + describe_json(sensor.diameter) + ", expected a face within its wall surface, from " +
-                          describe_point(segment->a) + " to " + describe_point(segment->b));
+  if (along < -tolerance || along > (segment->b - segment->a).norm() + tolerance) {
+    throw_input_error(source, key + ".position",
+                      "got " + describe_point(sensor.position) + ", expected a point on a wall surface, from " +
+                          describe_point(segment->a) + " to " + describe_point(segment->b) + ", or behind it");
   }
 }
 

@@ -56,14 +56,15 @@ std::vector<SensorFace> sensor_faces(const Scene& scene) {
   for (const auto& sensor : scene.diagnostics.pressure_sensors) {
     const WallSegment& segment = sensor_segment(geometry, sensor.position);
     const Vec2 tangent = (segment.b - segment.a).normalized();
-    // The centre projected onto the surface, then the face's parts of equal length.
-    const Vec2 centre = segment.a + tangent * tangent.dot(sensor.position - segment.a);
-    const int parts = std::max(1, static_cast<int>(std::ceil(sensor.diameter / (kSampleSpacing * l0) - 1e-9)));
+    // The face along the surface, cut where the surface ends (a corner, an open side); then
+    // parts of equal length, a sample point at the centre of each.
+    const double along = tangent.dot(sensor.position - segment.a);
+    const double from = std::max(0.0, along - 0.5 * sensor.diameter);
+    const double to = std::min((segment.b - segment.a).norm(), along + 0.5 * sensor.diameter);
+    const double length = std::max(0.0, to - from);
+    const int parts = std::max(1, static_cast<int>(std::ceil(length / (kSampleSpacing * l0) - 1e-9)));
     SensorFace face{sensor.name, {}, segment.normal};
-    for (int k = 0; k < parts; ++k) {
-      const double along = sensor.diameter * ((k + 0.5) / parts - 0.5);
-      face.points.push_back(centre + along * tangent);
-    }
+    for (int k = 0; k < parts; ++k) face.points.push_back(segment.a + (from + length * (k + 0.5) / parts) * tangent);
     faces.push_back(std::move(face));
   }
   return faces;
