@@ -1,8 +1,11 @@
 // The measured quantities of series.csv (core/run/diagnostics.hpp, docs/validation.md).
+#include <algorithm>
+
 #include <catch2/catch.hpp>
 
 #include "core/io/geometry.hpp"
 #include "core/run/diagnostics.hpp"
+#include "core/run/driver.hpp"
 #include "support.hpp"
 
 using namespace mps_lab;
@@ -48,19 +51,17 @@ TEST_CASE("the common density error is about 0 on the lattice and sees compressi
   CHECK(error < 0.03);
 }
 
-TEST_CASE("pressure sensors: Shepard average of the fluid pressure - 0 when dry", "[diagnostics]") {
+TEST_CASE("pressure sensors: two series columns each - mean and peak - and a valid name", "[diagnostics]") {
+  // The readings themselves: tests/test_pressure_sensors.cpp.
   const Scene scene =
-      load("hydrostatic.json", {"diagnostics.pressure_sensors=[{\"name\": \"mid\", \"position\": [0.25, 0.1]},"
-                                "{\"name\": \"dry\", \"position\": [0.25, 0.5]}]"});
-  ParticleSet particles = build_particles(scene);
-  // A linear pressure field: the kernel-weighted average at a lattice point with a symmetric
-  // full neighbourhood is exact (the weights are symmetric about the point).
-  for (std::size_t i = 0; i < particles.size(); ++i)
-    particles.pressure[i] = 3000.0 - 9810.0 * particles.position[i].y() + 50.0 * particles.position[i].x();
-  const FlowMeasures m = measure_flow(particles, scene);
-  REQUIRE(m.sensor_pressure.size() == 2);
-  CHECK(m.sensor_pressure[0] == Approx(3000.0 - 981.0 + 12.5).epsilon(1e-12));
-  CHECK(m.sensor_pressure[1] == 0.0);
+      load("hydrostatic.json", {"diagnostics.pressure_sensors=[{\"name\": \"low\", \"position\": [0.0125, 0.1]},"
+                                "{\"name\": \"bed\", \"position\": [0.25, 0.0125]}]"});
+  const auto& method = *registries().methods.all().front();
+  std::vector<std::string> columns = series_columns(method, scene);
+  const auto first = std::find(columns.begin(), columns.end(), "pressure_low");
+  REQUIRE(first != columns.end());
+  CHECK(std::vector<std::string>(first, first + 4) ==
+        std::vector<std::string>{"pressure_low", "pressure_low_max", "pressure_bed", "pressure_bed_max"});
   CHECK_THROWS_WITH(
       load("hydrostatic.json", {"diagnostics.pressure_sensors=[{\"name\": \"a b\", \"position\": [0, 0]}]"}),
       Catch::Contains("diagnostics.pressure_sensors[0].name"));

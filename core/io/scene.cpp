@@ -6,11 +6,13 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <sstream>
 
 #include "core/base/error.hpp"
 #include "core/io/geometry.hpp"
 #include "core/run/method.hpp"
+#include "core/walls/wall_geometry.hpp"
 
 namespace mps_lab {
 
@@ -120,9 +122,16 @@ std::vector<ParameterSpec> diagnostics_keys() {
 }
 
 std::vector<ParameterSpec> pressure_sensor_keys() {
+  // The diameter's default is one particle_spacing: no fixed number (null), read in read_diagnostics.
+  ParameterSpec diameter =
+      number_parameter("diameter", 0.0, "m", "diameter of the sensor's face on the wall (default: particle_spacing)")
+          .above(0.0);
+  diameter.default_value = nullptr;
   return {
-      string_parameter("name", "", "sensor name; series.csv gets a column pressure_<name>").mandatory(),
-      vector2_parameter("position", Vec2::Zero(), "m", "sensor point").mandatory(),
+      string_parameter("name", "", "sensor name; series.csv gets columns pressure_<name> and pressure_<name>_max")
+          .mandatory(),
+      vector2_parameter("position", Vec2::Zero(), "m", "centre of the sensor's face, on a wall surface").mandatory(),
+      diameter,
   };
 }
 
@@ -493,7 +502,9 @@ void read_diagnostics(const nlohmann::json& document, const std::string& source,
         throw_input_error(source, path + ".name",
                           "got " + describe_json(name) + ", expected a name no other sensor has");
       }
-      scene.diagnostics.pressure_sensors.push_back({name, sensor.vector2("position")});
+      const bool has_diameter = sensors[k].is_object() && sensors[k].contains("diameter");
+      scene.diagnostics.pressure_sensors.push_back(
+          {name, sensor.vector2("position"), has_diameter ? sensor.number("diameter") : scene.particle_spacing});
     }
   }
 }
@@ -582,14 +593,52 @@ void check_obstacles(const std::string& source, const Scene& scene) {
   }
 }
 
+// A sensor lies on a wall: on a wall surface (core/walls/wall_geometry.hpp) or behind it up
+// to the wall's first particle line (the domain boundary for a tank side, the box for an
+// obstacle), l0/2 further, within 1e-3 l0 (decimal positions such as 0.9875 m); its face is
+// centred on the position projected onto that surface, which must lie on the surface's
+// segment. A
+// position on the first particle line is thus valid at every particle_spacing (a scene run
+// with --set particle_spacing=...); and it must be inside the domain.
+constexpr double kSensorSurfaceTolerance = 1e-3;  // l0
+
+void check_pressure_sensor(const std::string& source, const Scene& scene, const WallGeometry& geometry, std::size_t k) {
+  const PressureSensor& sensor = scene.diagnostics.pressure_sensors[k];
+  const std::string key = "diagnostics.pressure_sensors[" + std::to_string(k) + "]";
+  if (!inside_box(sensor.position, scene.domain, 0.0)) {
+    throw_input_error(
+        source, key + ".position",
+        "got " + describe_point(sensor.position) + ", expected a point inside the domain " + describe_domain(scene));
+  }
+  const double tolerance = kSensorSurfaceTolerance * scene.particle_spacing;
+  std::size_t nearest = 0;
+  const double distance = geometry.segments().empty() ? std::numeric_limits<double>::infinity()
+                                                      : geometry.distance(sensor.position, &nearest);
+  const bool near = distance <= geometry.surface_offset() + tolerance;
+  const WallSegment* segment = near ? &geometry.segments()[nearest] : nullptr;
+  if (segment == nullptr || segment->normal.dot(sensor.position - segment->a) > tolerance) {
+    throw_input_error(source, key + ".position",
+                      "got " + describe_point(sensor.position) +
+                          ", expected a point on a wall (walls.sides, walls.obstacles): on its surface or behind it "
+                          "up to its first particle line, particle_spacing/2 further");
+  }
+  // The position projected onto the surface must lie on the surface's segment (not past a
+  // corner or an open side); a face longer than the surface around it is cut there
+  // (sensor_faces, core/run/pressure_sensors.cpp).
+  const Vec2 tangent = (segment->b - segment->a).normalized();
+  const double along = tangent.dot(sensor.position - segment->a);
+  if (along < -tolerance || along > (segment->b - segment->a).norm() + tolerance) {
+    throw_input_error(source, key + ".position",
+                      "got " + describe_point(sensor.position) + ", expected a point on a wall surface, from " +
+                          describe_point(segment->a) + " to " + describe_point(segment->b) + ", or behind it");
+  }
+}
+
 void check_pressure_sensors(const std::string& source, const Scene& scene) {
-  const std::string domain_text = describe_domain(scene);
+  if (scene.diagnostics.pressure_sensors.empty()) return;
+  const WallGeometry geometry(scene);
   for (std::size_t k = 0; k < scene.diagnostics.pressure_sensors.size(); ++k) {
-    const Vec2& position = scene.diagnostics.pressure_sensors[k].position;
-    if (!inside_box(position, scene.domain, 0.0)) {
-      throw_input_error(source, "diagnostics.pressure_sensors[" + std::to_string(k) + "].position",
-                        "got " + describe_point(position) + ", expected a point inside the domain " + domain_text);
-    }
+    check_pressure_sensor(source, scene, geometry, k);
   }
 }
 

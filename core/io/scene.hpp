@@ -62,10 +62,12 @@ struct OutputControl {
   bool vtu = false;                      // output_XXXXXX.vtu, VTK XML appended binary, and output.pvd
 };
 
-// A point where series.csv records the fluid pressure (column "pressure_<name>").
+// A wall-pressure sensor: a face of `diameter` on a wall surface, centred on `position`
+// (core/run/pressure_sensors.hpp); series.csv columns "pressure_<name>" and "pressure_<name>_max".
 struct PressureSensor {
   std::string name;
-  Vec2 position = Vec2::Zero();  // m
+  Vec2 position = Vec2::Zero();  // m, on a wall surface
+  double diameter = 0.0;         // m, > 0 (the scene's default: one particle spacing)
 };
 
 // Definitions of the measured quantities in series.csv (see docs/scene-format.md).

@@ -172,18 +172,6 @@ FlowMeasures measure_flow(const ParticleSet& particles, const Scene& scene, Flow
   out.height = std::isfinite(top) ? top - bed : 0.0;
   out.density_error = full_support > 0 ? density_deviation / static_cast<double>(full_support) : 0.0;
 
-  // Pressure sensors: kernel-weighted (Shepard) average of the fluid pressure around the
-  // point; 0 when no fluid particle is within the kernel's support (a dry sensor).
-  for (const auto& sensor : scene.diagnostics.pressure_sensors) {
-    double weighted = 0.0, weights = 0.0;
-    for (std::size_t i = 0; i < particles.size(); ++i) {
-      if (particles.type[i] != ParticleType::Fluid) continue;
-      const double w = kernel.value((particles.position[i] - sensor.position).norm());
-      weighted += w * particles.pressure[i];
-      weights += w;
-    }
-    out.sensor_pressure.push_back(weights > 0.0 ? weighted / weights : 0.0);
-  }
   return out;
 }
 

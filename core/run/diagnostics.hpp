@@ -33,7 +33,6 @@ struct FlowMeasures {
   // fluid and wall particles with a cubic spline of support diagnostics.density_support,
   // rho_lattice the same sum on the undisturbed lattice. Every method is measured the same way.
   double density_error = 0.0;
-  std::vector<double> sensor_pressure;  // Pa, per scene pressure sensor (Shepard average of fluid pressure)
   std::size_t fluid = 0;
   std::size_t wall = 0;
   std::size_t ghost = 0;

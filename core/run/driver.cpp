@@ -55,7 +55,10 @@ std::vector<std::string> series_columns(const MethodInfo& method, const Scene& s
                                       "courant_number",
                                       "mechanical_energy",
                                       "stability_events"};
-  for (const auto& sensor : scene.diagnostics.pressure_sensors) columns.push_back("pressure_" + sensor.name);
+  for (const auto& sensor : scene.diagnostics.pressure_sensors) {
+    columns.push_back("pressure_" + sensor.name);           // Pa, time-weighted mean since the previous row
+    columns.push_back("pressure_" + sensor.name + "_max");  // Pa, peak since the previous row
+  }
   columns.insert(columns.end(), method.series_columns.begin(), method.series_columns.end());
   return columns;
 }
@@ -74,7 +77,8 @@ Simulation::Simulation(const Scene& scene, const MethodInfo& info, PressureSyste
     : scene_(scene),
       info_(info),
       particles_(build_particles(scene, wants_wall_particles(scene, info))),
-      monitor_(scene, scene.stability) {
+      monitor_(scene, scene.stability),
+      sensors_(scene) {
   for (const auto& field : info.fields) particles_.add_field(field.name);
   const MethodConfig& config = scene.method_config(info.name);
   method_ = info.create(
@@ -112,6 +116,7 @@ const StepReport& Simulation::advance() {
   max_iterations_ = std::max(max_iterations_, report_.solver_iterations);
   const auto timed = timers_.measure(diagnostics_phase_);
   monitor_.check_step(particles_, report_, steps_, time_, dt);  // throws RunStopped
+  sensors_.sample(particles_, dt);
   return report_;
 }
 
@@ -208,6 +213,10 @@ void Simulation::save_checkpoint(CheckpointWriter& out) const {
   out.begin_section("stability");
   write_stability_state(out, monitor_.state());
   out.end_section();
+
+  out.begin_section("pressure_sensors");
+  sensors_.save(out);
+  out.end_section();
 }
 
 void Simulation::restore_checkpoint(CheckpointReader& in) {
@@ -233,6 +242,10 @@ void Simulation::restore_checkpoint(CheckpointReader& in) {
 
   in.begin_section("stability");
   read_stability_state(in, monitor_.state());
+  in.end_section();
+
+  in.begin_section("pressure_sensors");
+  sensors_.restore(in);
   in.end_section();
 }
 
@@ -435,7 +448,7 @@ class RunSession {
   double wall_seconds() const { return earlier_wall_seconds_ + seconds_since(started_); }
   void restore_checkpoint();
   void write_starting_summary();
-  std::vector<double> series_row(const FlowMeasures& measures) const;
+  std::vector<double> series_row(const FlowMeasures& measures);
   void record(bool frame);
   template <typename Dropped>
   void record_post_mortem();
@@ -508,8 +521,9 @@ void RunSession::write_starting_summary() {
 }
 
 // A row of series.csv (series_columns): the step, the flow measures, the solver and the
-// monitor, the sensors, then the method's columns (zeros before the first step).
-std::vector<double> RunSession::series_row(const FlowMeasures& measures) const {
+// monitor, the sensors (mean and peak since the previous row, which starts a new interval),
+// then the method's columns (zeros before the first step).
+std::vector<double> RunSession::series_row(const FlowMeasures& measures) {
   const StepReport& report = simulation_.last_report();
   std::vector<double> row = {static_cast<double>(simulation_.steps()),
                              simulation_.time(),
@@ -528,7 +542,8 @@ std::vector<double> RunSession::series_row(const FlowMeasures& measures) const {
                              simulation_.monitor().state().last_courant,
                              simulation_.monitor().state().last_energy,
                              static_cast<double>(simulation_.monitor().state().events_total)};
-  row.insert(row.end(), measures.sensor_pressure.begin(), measures.sensor_pressure.end());
+  const std::vector<double> sensors = simulation_.pressure_sensors().take_row(simulation_.particles());
+  row.insert(row.end(), sensors.begin(), sensors.end());
   if (simulation_.steps() == 0) {
     row.resize(row.size() + info_.series_columns.size(), 0.0);
   } else {

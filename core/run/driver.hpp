@@ -16,6 +16,7 @@
 #include "core/io/scene.hpp"
 #include "core/run/diagnostics.hpp"
 #include "core/run/method.hpp"
+#include "core/run/pressure_sensors.hpp"
 #include "core/run/profile.hpp"
 #include "core/run/stability.hpp"
 
@@ -49,6 +50,10 @@ class Simulation {
   long long steps() const { return steps_; }
   double last_time_step() const { return last_dt_; }
   const StepReport& last_report() const { return report_; }
+  // The wall-pressure sensors, read after every step (core/run/pressure_sensors.hpp); a
+  // series row takes their mean and peak since the previous row (take_row).
+  PressureSensorRecord& pressure_sensors() { return sensors_; }
+  const PressureSensorRecord& pressure_sensors() const { return sensors_; }
   // Totals over all steps so far.
   long long total_solver_iterations() const { return total_iterations_; }
   long long max_solver_iterations() const { return max_iterations_; }
@@ -71,6 +76,7 @@ class Simulation {
   ParticleSet particles_;
   std::unique_ptr<Method> method_;
   StabilityMonitor monitor_;
+  PressureSensorRecord sensors_;
   double time_ = 0.0;
   double time_compensation_ = 0.0;  // Kahan summation: 4000 x 5e-4 s ends at 2 s, not 1.9999999999998
   long long steps_ = 0;
@@ -116,7 +122,7 @@ struct RunResult {
 // the run is complete and no later end time is given).
 RunResult run_simulation(const RunOptions& options, const MethodRegistry& methods, const WallTreatmentRegistry& walls);
 
-// The series.csv columns of a run: the common ones, the scene's pressure sensors, then the
+// The series.csv columns of a run: the common ones, the scene's pressure sensors (mean and peak), then the
 // method's own.
 std::vector<std::string> series_columns(const MethodInfo& method, const Scene& scene);
 

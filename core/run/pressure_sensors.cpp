@@ -1,0 +1,138 @@
+#include "core/run/pressure_sensors.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include "core/io/checkpoint.hpp"
+#include "core/walls/wall_geometry.hpp"
+
+namespace mps_lab {
+
+namespace {
+
+constexpr double kSupport = 2.4;         // l0: the extrapolation kernel's support
+constexpr double kSampleSpacing = 0.25;  // l0: the largest distance between a face's sample points
+
+// The wall segment a sensor lies on: the nearest one (the scene checked that the position is
+// on it or behind it up to the first wall particle line, core/io/scene.cpp).
+const WallSegment& sensor_segment(const WallGeometry& geometry, const Vec2& position) {
+  std::size_t nearest = 0;
+  geometry.distance(position, &nearest);
+  return geometry.segments()[nearest];
+}
+
+}  // namespace
+
+SphKernel wall_pressure_kernel(double particle_spacing) {
+  return SphKernel(SphKernelKind::CubicSpline, kSupport * particle_spacing);
+}
+
+// Adami, Hu & Adams (2012), eq. 27:
+//   p_w = [ sum_f p_f W_wf + (g - a_w) . sum_f rho_f (x_w - x_f) W_wf ] / sum_f W_wf.
+double extrapolated_wall_pressure(const ParticleSet& particles, const Vec2& wall_point, const Vec2& body_force,
+                                  double density, const SphKernel& kernel) {
+  const double support2 = kernel.support() * kernel.support();
+  double weights = 0.0;            // 1/m^2
+  double weighted_p = 0.0;         // Pa/m^2
+  Vec2 weighted_r = Vec2::Zero();  // m/m^2
+  for (std::size_t f = 0; f < particles.size(); ++f) {
+    if (particles.type[f] != ParticleType::Fluid) continue;
+    const Vec2 r_wf = wall_point - particles.position[f];
+    const double r2 = r_wf.squaredNorm();
+    if (r2 >= support2) continue;
+    const double w = kernel.value(std::sqrt(r2));
+    weights += w;
+    weighted_p += particles.pressure[f] * w;
+    weighted_r += r_wf * w;
+  }
+  if (!(weights > 0.0)) return 0.0;  // dry: no fluid within the support
+  return (weighted_p + density * body_force.dot(weighted_r)) / weights;
+}
+
+std::vector<SensorFace> sensor_faces(const Scene& scene) {
+  const WallGeometry geometry(scene);
+  const double l0 = scene.particle_spacing;
+  std::vector<SensorFace> faces;
+  for (const auto& sensor : scene.diagnostics.pressure_sensors) {
+    const WallSegment& segment = sensor_segment(geometry, sensor.position);
+    const Vec2 tangent = (segment.b - segment.a).normalized();
+    // The face along the surface, cut where the surface ends (a corner, an open side); then
+    // parts of equal length, a sample point at the centre of each.
+    const double along = tangent.dot(sensor.position - segment.a);
+    const double from = std::max(0.0, along - 0.5 * sensor.diameter);
+    const double to = std::min((segment.b - segment.a).norm(), along + 0.5 * sensor.diameter);
+    const double length = std::max(0.0, to - from);
+    const int parts = std::max(1, static_cast<int>(std::ceil(length / (kSampleSpacing * l0) - 1e-9)));
+    SensorFace face{sensor.name, {}, segment.normal};
+    for (int k = 0; k < parts; ++k) face.points.push_back(segment.a + (from + length * (k + 0.5) / parts) * tangent);
+    faces.push_back(std::move(face));
+  }
+  return faces;
+}
+
+// The face's reading: the mean of its points' extrapolated pressures (dry points count 0).
+std::vector<double> read_pressure_sensors(const ParticleSet& particles, const Scene& scene,
+                                          const std::vector<SensorFace>& faces, const Vec2& wall_acceleration) {
+  const SphKernel kernel = wall_pressure_kernel(scene.particle_spacing);
+  const Vec2 body_force = scene.physics.gravity - wall_acceleration;  // g - a_w, m/s^2
+  std::vector<double> readings;
+  readings.reserve(faces.size());
+  for (const SensorFace& face : faces) {
+    double sum = 0.0;
+    for (const Vec2& point : face.points) {
+      sum += extrapolated_wall_pressure(particles, point, body_force, scene.physics.density, kernel);
+    }
+    readings.push_back(sum / static_cast<double>(face.points.size()));
+  }
+  return readings;
+}
+
+PressureSensorRecord::PressureSensorRecord(const Scene& scene)
+    : scene_(scene),
+      faces_(sensor_faces(scene)),
+      weighted_sum_(faces_.size(), 0.0),
+      peak_(faces_.size(), -std::numeric_limits<double>::infinity()) {}
+
+void PressureSensorRecord::sample(const ParticleSet& particles, double dt) {
+  if (faces_.empty()) return;
+  // Today's walls are fixed (a_w = 0).
+  const std::vector<double> readings = read_pressure_sensors(particles, scene_, faces_);
+  for (std::size_t k = 0; k < faces_.size(); ++k) {
+    weighted_sum_[k] += readings[k] * dt;
+    peak_[k] = std::max(peak_[k], readings[k]);
+  }
+  duration_ += dt;
+}
+
+std::vector<double> PressureSensorRecord::take_row(const ParticleSet& particles) {
+  std::vector<double> row;
+  row.reserve(2 * faces_.size());
+  const std::vector<double> now =
+      duration_ > 0.0 ? std::vector<double>() : read_pressure_sensors(particles, scene_, faces_);
+  for (std::size_t k = 0; k < faces_.size(); ++k) {
+    row.push_back(duration_ > 0.0 ? weighted_sum_[k] / duration_ : now[k]);
+    row.push_back(duration_ > 0.0 ? peak_[k] : now[k]);
+  }
+  std::fill(weighted_sum_.begin(), weighted_sum_.end(), 0.0);
+  std::fill(peak_.begin(), peak_.end(), -std::numeric_limits<double>::infinity());
+  duration_ = 0.0;
+  return row;
+}
+
+void PressureSensorRecord::save(CheckpointWriter& out) const {
+  out.write_doubles(weighted_sum_);
+  out.write_doubles(peak_);
+  out.write_double(duration_);
+}
+
+void PressureSensorRecord::restore(CheckpointReader& in) {
+  weighted_sum_ = in.read_doubles();
+  peak_ = in.read_doubles();
+  duration_ = in.read_double();
+  if (weighted_sum_.size() != faces_.size() || peak_.size() != faces_.size()) {
+    in.fail("pressure sensors: " + std::to_string(weighted_sum_.size()) + " in the checkpoint, the scene has " +
+            std::to_string(faces_.size()));
+  }
+}
+
+}  // namespace mps_lab
