@@ -157,17 +157,20 @@ TEST_CASE("EISPH sweeps repeated at fixed particles converge to the isph solve o
   const double e1 = error_after(1), e100 = error_after(99), e1000 = error_after(900), e2000 = error_after(1000);
   INFO("largest |p| " << largest << " Pa; max error / largest after 1, 100, 1000, 2000 sweeps: " << e1 << ", " << e100
                       << ", " << e1000 << ", " << e2000);
-  // A block Jacobi iteration of a system whose fluid rows are weakly diagonally dominant
-  // contracts every error by the same factor rho per sweep once the slowest mode dominates:
-  // measured e1000 / e2000 gives rho^1000; every stage must shrink the error, and the last
-  // must be far below the first sweep's error (the fixed point is the implicit solution).
+  // A block Jacobi iteration contracts the error by the same factor rho per sweep once the
+  // slowest mode dominates. Measured: errors 0.69, 0.046, 7.0e-8, 1.1e-12 after 1, 100, 1000,
+  // 2000 sweeps, so rho = (e1000 / e100)^(1/900) = 0.985; after 2000 sweeps the error is at the
+  // floor of the reference itself (BiCGSTAB to a relative residual of 1e-12). Bounds: rho < 0.99
+  // (a third of the measured distance to 1 as margin), and the 2000-sweep error below both the
+  // contraction's prediction e100 0.99^1900 = 2.4e-10 and 1e-9.
   CHECK(e100 < e1);
   CHECK(e1000 < e100);
   CHECK(e2000 < e1000);
-  const double contraction = std::pow(e2000 / e1000, 1.0 / 1000.0);  // per sweep
+  const double contraction = std::pow(e1000 / e100, 1.0 / 900.0);  // per sweep
   INFO("contraction per sweep " << contraction);
-  CHECK(contraction < 1.0);
-  CHECK(e2000 < 1e-3);
+  CHECK(contraction < 0.99);
+  CHECK(e2000 < e100 * std::pow(0.99, 1900.0));
+  CHECK(e2000 < 1e-9);
 }
 #endif
 
@@ -202,8 +205,12 @@ TEST_CASE("EISPH still water: time-mean bed pressure hydrostatic", "[eisph][vali
   INFO("time-mean bed pressure over [1, 2] s " << mean << " Pa (" << mean / lower
                                                << " of the lower reference); largest kinetic energy " << largest_energy
                                                << " J/m");
-  // MEASURED_HYDROSTATIC
-  CHECK(mean > 0.95 * lower);
+  // Measured 2431.8 Pa = 0.992 of the lower reference (1121 steps of the CFL rule; the
+  // pressure of the bottom row, Shepard-averaged, sits a little under the Dirichlet-at-centres
+  // head, as isph's does). Bounds: 3 % below the lower reference (the measured 0.8 % with
+  // margin for the sensor's averaging over a row that moves by a few per cent of l0) and 5 %
+  // above the upper one, the README's "hydrostatic within 5 %" for mps.
+  CHECK(mean > 0.97 * lower);
   CHECK(mean < 1.05 * upper);
 }
 
@@ -214,7 +221,8 @@ TEST_CASE("EISPH dam break to 2 s on Martin & Moyce - nothing lost - nothing thr
   INFO("steps " << outcome.result.steps << "; front RMS " << e.front_rms << " max " << e.front_max << "; best shift "
                 << e.front_shift << " -> RMS " << e.front_rms_shifted << "; height RMS " << e.height_rms << "; ghosts "
                 << outcome.ghosts);
-  // MEASURED_DAMBREAK
+  // Measured (1121 steps): front RMS 0.098, max 0.165; best shift +0.071 -> 0.049; height RMS
+  // 0.022; 7 ghosts (isph: 0.112, 0.050, 0.020, 8).
   // The bounds of docs/validation.md (as isph and mps): 0.15 is the RMS difference between two
   // independent experiments on this geometry; 0.10 with the best time shift is the noise floor
   // of the experiment; 0.08 in H* for the height (Table 6's rounding and digitisations).
