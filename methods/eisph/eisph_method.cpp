@@ -63,7 +63,11 @@ class EisphMethod final : public Method {
         timers_(setup.timers),
         search_phase_(phase_id(timers_, "neighbour_search")),
         operators_phase_(phase_id(timers_, "operators")),
-        relaxation_phase_(phase_id(timers_, "pressure_relaxation")),
+        // The phase names of the projection methods (docs/performance.md); eisph has no matrix:
+        // "matrix_assembly" times what the sweep reads (surface pressures, (WALL) from p^n),
+        // "pressure_solve" the sweep with the clamp and (WALL) from p^{n+1}.
+        assembly_phase_(phase_id(timers_, "matrix_assembly")),
+        solve_phase_(phase_id(timers_, "pressure_solve")),
         integration_phase_(phase_id(timers_, "integration")),
         kernel_(sph_kernel_from_name(setup.parameters.string("kernel")),
                 2.0 * setup.parameters.number("smoothing_length") * setup.scene.particle_spacing) {
@@ -239,17 +243,20 @@ class EisphMethod final : public Method {
   // fluid's p^{n+1}; negative pressures clamped when asked; the walls again from p^{n+1}, which
   // the pressure gradient reads (Adami et al. 2012 evaluate eq. 27 with the current pressures).
   SweepResult relax_pressure(ParticleSet& particles) {
-    const auto timed = measure(timers_, relaxation_phase_);
     const auto& free_surface = particles.field("free_surface");
-    for (std::size_t i = 0; i < particles.size(); ++i) {
-      const bool held = particles.type[i] == ParticleType::Ghost ||
-                        (particles.type[i] == ParticleType::Fluid && free_surface[i] != 0.0);
-      if (held) particles.pressure[i] = 0.0;  // p = 0 on the free surface (and ghosts)
-    }
     const Vec2 gravity = scene_.physics.gravity;
-    // Wall particles that see fluid (as the wall rows of isph_pressure.cpp; none with wall samples)
-    adami_wall_pressure(particles, neighbours_, kernel_, rest_density_field_, gravity, particles.pressure);
-    previous_pressure_ = particles.pressure;  // p^n
+    {
+      const auto timed = measure(timers_, assembly_phase_);
+      for (std::size_t i = 0; i < particles.size(); ++i) {
+        const bool held = particles.type[i] == ParticleType::Ghost ||
+                          (particles.type[i] == ParticleType::Fluid && free_surface[i] != 0.0);
+        if (held) particles.pressure[i] = 0.0;  // p = 0 on the free surface (and ghosts)
+      }
+      // Wall particles that see fluid (as the wall rows of isph_pressure.cpp; none with wall samples)
+      adami_wall_pressure(particles, neighbours_, kernel_, rest_density_field_, gravity, particles.pressure);
+      previous_pressure_ = particles.pressure;  // p^n
+    }
+    const auto timed = measure(timers_, solve_phase_);
     const SweepResult sweep =
         relaxation_sweep(particles, neighbours_, samples_, kernel_, rest_density_field_, free_surface, source_,
                          settings_, previous_pressure_, particles.pressure);
@@ -333,7 +340,7 @@ class EisphMethod final : public Method {
   const Scene& scene_;
   WallTreatmentSet walls_;
   PhaseTimers* timers_;  // core/run/profile.hpp; null outside a run
-  PhaseTimers::Id search_phase_, operators_phase_, relaxation_phase_, integration_phase_;
+  PhaseTimers::Id search_phase_, operators_phase_, assembly_phase_, solve_phase_, integration_phase_;
   SphKernel kernel_;
   double rest_density_ = 1000.0;  // kg/m^3
   double mass_ = 0.0;             // kg/m
