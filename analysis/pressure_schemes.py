@@ -82,7 +82,10 @@ def measure(plan: dict, case: dict, scheme: str, folder: str, status: str) -> di
     if case["kind"] == "hydrostatic":
         spacing = float(run.summary["shared"]["particle_spacing"])
         surface = spacing / 2.0 + run.column_height
-        expected = float(run.summary["shared"]["density"]) * run.gravity * (surface - plan["sensor"]["height"])
+        # A wall transducer reads at the wall surface (core/run/pressure_sensors.hpp): a sensor
+        # placed on the bed's wall line (height 0) sits l0/2 higher, on the bed surface.
+        sensor_height = max(plan["sensor"]["height"], spacing / 2.0)
+        expected = float(run.summary["shared"]["density"]) * run.gravity * (surface - sensor_height)
         kinetic = series["kinetic_energy"][series["time"] >= settled]
         row.update(error=f"{mean / expected - 1.0:+.3f}", kinetic_energy=f"{np.mean(kinetic):.2f}")
     else:
