@@ -18,6 +18,7 @@
 #include "core/run/method.hpp"
 #include "core/run/profile.hpp"
 #include "core/run/stability.hpp"
+#include "core/walls/moving_walls.hpp"
 
 namespace mps_lab {
 
@@ -68,6 +69,7 @@ class Simulation {
   const Scene& scene_;
   const MethodInfo& info_;
   ParticleSet particles_;
+  MovingWalls moving_walls_;  // obstacles with a motion law (empty: every wall fixed)
   std::unique_ptr<Method> method_;
   StabilityMonitor monitor_;
   double time_ = 0.0;
