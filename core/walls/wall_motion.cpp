@@ -116,8 +116,7 @@ bool parse_row(const std::string& line, double values[3]) {
 
 }  // namespace
 
-void read_motion_table(const std::string& file, const std::string& source, const std::string& key,
-                       WallMotion& motion) {
+void read_motion_table(const std::string& file, const std::string& source, const std::string& key, WallMotion& motion) {
   std::ifstream in(file);
   if (!in) throw_input_error(source, key, "cannot read the motion table '" + file + "'; expected a CSV file t,x,y");
   motion.times.clear();

@@ -24,9 +24,9 @@ namespace mps_lab {
 enum class MotionLaw { None, ConstantVelocity, ConstantAcceleration, Sinusoid, Table };
 
 struct WallMotion {
-  MotionLaw law = MotionLaw::None;  // None: the solid never moves
-  double start_time = 0.0;          // t_s, s
-  Vec2 velocity = Vec2::Zero();     // constant_velocity: V, m/s
+  MotionLaw law = MotionLaw::None;   // None: the solid never moves
+  double start_time = 0.0;           // t_s, s
+  Vec2 velocity = Vec2::Zero();      // constant_velocity: V, m/s
   Vec2 acceleration = Vec2::Zero();  // constant_acceleration: a, m/s^2
   double max_speed = 0.0;            // constant_acceleration: speed cap, m/s (0: none)
   Vec2 amplitude = Vec2::Zero();     // sinusoid: A, m
@@ -36,8 +36,8 @@ struct WallMotion {
   std::vector<Vec2> offsets;         // table: (x_k, y_k), m
 
   bool moves() const { return law != MotionLaw::None; }
-  Vec2 displacement(double t) const;  // d(t), m
-  Vec2 velocity_at(double t) const;   // u(t), m/s
+  Vec2 displacement(double t) const;     // d(t), m
+  Vec2 velocity_at(double t) const;      // u(t), m/s
   Vec2 acceleration_at(double t) const;  // du/dt, m/s^2 (0 inside a table interval)
 };
 
@@ -45,7 +45,6 @@ struct WallMotion {
 // Throws InputError naming `source` (the scene) and `key` when the file is missing or
 // unreadable, a row is malformed, fewer than two rows are given, or t is not strictly
 // increasing.
-void read_motion_table(const std::string& file, const std::string& source, const std::string& key,
-                       WallMotion& motion);
+void read_motion_table(const std::string& file, const std::string& source, const std::string& key, WallMotion& motion);
 
 }  // namespace mps_lab
