@@ -37,7 +37,7 @@ std::string scene_error(const std::string& name, const std::vector<std::string>&
 std::string motion_error(const std::string& motion_json) {
   return scene_error("dambreak_gate.json", {"walls.obstacles=[{\"min\": [0.25, 0.0], \"max\": [0.275, 0.55], "
                                             "\"motion\": " +
-                                                motion_json + "}]"});
+                                            motion_json + "}]"});
 }
 
 // The indices of the wall particles inside the gate's box at t = 0 (not the bed's row).
@@ -146,7 +146,7 @@ TEST_CASE("moving walls: bad motion input is a one-line error naming the file an
   CHECK_THAT(error_with_table("backwards.csv"), Catch::Contains("scene.json"));
   // A boundary model that does not move walls refuses a moving obstacle when the run starts.
   const Scene samples = load("dambreak_gate.json", {"methods.isph.wall_treatments.dummy_layers.enabled=true",
-                                                     "methods.isph.wall_treatments.adami_wall_particles.enabled=false"});
+                                                    "methods.isph.wall_treatments.adami_wall_particles.enabled=false"});
   const MethodInfo* isph = registries().methods.find("isph");
   if (isph != nullptr) {
     CHECK_THROWS_WITH(Simulation(samples, *isph), Catch::Contains("walls.obstacles[0].motion") &&
