@@ -21,6 +21,16 @@ struct ParticleSet {
   // 0 for fluid; for walls, 1 = the layer facing the fluid, 2, 3, ... = outer layers
   // (Chebyshev distance from the fluid region in units of l0, plus one).
   std::vector<std::uint8_t> wall_layer;
+  // The prescribed motion of wall particles (core/walls/moving_walls.hpp): empty while every
+  // wall is at rest (fixed walls cost nothing), else one entry per particle (zero for fluid and
+  // fixed walls). The driver sets them each step from the motion laws; a method holds a wall
+  // particle's velocity at prescribed_wall_velocity(i) and may read its acceleration.
+  std::vector<Vec2> wall_velocity;      // m/s
+  std::vector<Vec2> wall_acceleration;  // m/s^2
+  Vec2 prescribed_wall_velocity(std::size_t i) const { return wall_velocity.empty() ? Vec2::Zero() : wall_velocity[i]; }
+  Vec2 prescribed_wall_acceleration(std::size_t i) const {
+    return wall_acceleration.empty() ? Vec2::Zero() : wall_acceleration[i];
+  }
   // Method-declared per-particle scalars, keyed by name (std::map: references stay valid).
   std::map<std::string, std::vector<double>> scalar_fields;
 

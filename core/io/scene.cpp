@@ -1,5 +1,6 @@
 #include "core/io/scene.hpp"
 
+#include <algorithm>
 #include <cctype>
 #include <cerrno>
 #include <cmath>
@@ -7,6 +8,7 @@
 #include <filesystem>
 #include <fstream>
 #include <limits>
+#include <map>
 #include <sstream>
 
 #include "core/base/error.hpp"
@@ -59,6 +61,25 @@ std::vector<ParameterSpec> obstacle_keys() {
   return {
       vector2_parameter("min", Vec2::Zero(), "m", "lower-left corner: a lattice point inside the domain").mandatory(),
       vector2_parameter("max", Vec2::Zero(), "m", "upper-right corner: a lattice point inside the domain").mandatory(),
+  };
+}
+
+// walls.obstacles[k].motion (core/walls/wall_motion.hpp): the law and the keys of each law.
+std::vector<ParameterSpec> motion_keys() {
+  return {
+      string_parameter("law", "", "the motion law of the obstacle")
+          .one_of({"constant_velocity", "constant_acceleration", "sinusoid", "table"})
+          .mandatory(),
+      number_parameter("start_time", 0.0, "s", "the obstacle rests at its scene position until this time")
+          .at_least(0.0),
+      vector2_parameter("velocity", Vec2::Zero(), "m/s", "constant_velocity: the velocity V"),
+      vector2_parameter("acceleration", Vec2::Zero(), "m/s^2", "constant_acceleration: the acceleration a"),
+      number_parameter("max_speed", 0.0, "m/s", "constant_acceleration: the speed where acceleration stops (0: never)")
+          .at_least(0.0),
+      vector2_parameter("amplitude", Vec2::Zero(), "m", "sinusoid: the amplitude vector A"),
+      number_parameter("period", 1.0, "s", "sinusoid: the period T").above(0.0),
+      number_parameter("phase", 0.0, "rad", "sinusoid: the phase phi"),
+      string_parameter("file", "", "table: CSV file of rows t,x,y (s, m, m), relative to the scene file"),
   };
 }
 
@@ -288,6 +309,7 @@ std::vector<SceneBlockSpec> shared_scene_keys() {
           {"domain", domain_keys()},
           {"walls", wall_keys()},
           {"walls.obstacles[]", obstacle_keys()},
+          {"walls.obstacles[].motion", motion_keys()},
           {"fluid_blocks[]", fluid_block_keys()},
           {"physics", physics_keys()},
           {"time", time_keys()},
@@ -295,6 +317,10 @@ std::vector<SceneBlockSpec> shared_scene_keys() {
           {"diagnostics", diagnostics_keys()},
           {"diagnostics.pressure_sensors[]", pressure_sensor_keys()},
           {"stability", stability_keys()}};
+}
+
+bool TankWalls::any_moving() const {
+  return std::any_of(motions.begin(), motions.end(), [](const WallMotion& m) { return m.moves(); });
 }
 
 const MethodConfig& Scene::method_config(const std::string& name) const {
@@ -409,6 +435,50 @@ void read_domain(const nlohmann::json& document, const std::string& source, Scen
   scene.domain.max = domain.vector2("max");
 }
 
+// The keys each law reads besides law and start_time; any other key given is an error (an
+// option that is parsed but ignored).
+std::vector<std::string> motion_law_keys(const std::string& law) {
+  if (law == "constant_velocity") return {"velocity"};
+  if (law == "constant_acceleration") return {"acceleration", "max_speed"};
+  if (law == "sinusoid") return {"amplitude", "period", "phase"};
+  return {"file"};  // table
+}
+
+// walls.obstacles[k].motion: the law, its keys checked against the law, a table read from its file.
+WallMotion read_motion(const nlohmann::json& block, const std::string& source, const std::string& path) {
+  const auto values = resolve_parameters(motion_keys(), block, source, path);
+  const std::string& law = values.string("law");
+  const std::vector<std::string> own = motion_law_keys(law);
+  for (const auto& [key, value] : block.items()) {
+    if (key == "law" || key == "start_time" || std::find(own.begin(), own.end(), key) != own.end()) continue;
+    throw_input_error(source, path + "." + key, "is not a key of law " + law + " (expected: " + join(own) + ")");
+  }
+  const std::string required = law == "sinusoid" ? "period" : law == "table" ? "file" : "";
+  if (!required.empty() && !block.contains(required)) {
+    throw_input_error(source, path + "." + required, "missing; law " + law + " needs it");
+  }
+  WallMotion motion;
+  motion.start_time = values.number("start_time");
+  if (law == "constant_velocity") {
+    motion.law = MotionLaw::ConstantVelocity;
+    motion.velocity = values.vector2("velocity");
+  } else if (law == "constant_acceleration") {
+    motion.law = MotionLaw::ConstantAcceleration;
+    motion.acceleration = values.vector2("acceleration");
+    motion.max_speed = values.number("max_speed");
+  } else if (law == "sinusoid") {
+    motion.law = MotionLaw::Sinusoid;
+    motion.amplitude = values.vector2("amplitude");
+    motion.period = values.number("period");
+    motion.phase = values.number("phase");
+  } else {
+    motion.law = MotionLaw::Table;
+    const std::filesystem::path file = std::filesystem::path(source).parent_path() / values.string("file");
+    read_motion_table(file.string(), source, path + ".file", motion);
+  }
+  return motion;
+}
+
 // walls: the tank's layers and sides, and the obstacles.
 void read_walls(const nlohmann::json& document, const std::string& source, Scene& scene) {
   const auto& walls_json = block_or_null(document, "walls");
@@ -420,9 +490,12 @@ void read_walls(const nlohmann::json& document, const std::string& source, Scene
                         "got " + describe_json(obstacles) + ", expected an array of {min, max} boxes");
     }
     for (std::size_t k = 0; k < obstacles.size(); ++k) {
-      const auto box =
-          resolve_parameters(obstacle_keys(), obstacles[k], source, "walls.obstacles[" + std::to_string(k) + "]");
+      const std::string path = "walls.obstacles[" + std::to_string(k) + "]";
+      const auto box = resolve_parameters(obstacle_keys(), obstacles[k], source, path, {"motion"});
       scene.walls.obstacles.push_back({box.vector2("min"), box.vector2("max")});
+      const bool moving = obstacles[k].is_object() && obstacles[k].contains("motion");
+      scene.walls.motions.push_back(moving ? read_motion(obstacles[k].at("motion"), source, path + ".motion")
+                                           : WallMotion{});
     }
   }
   scene.walls.layers = static_cast<int>(wall_block.integer("layers"));

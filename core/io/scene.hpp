@@ -12,6 +12,7 @@
 #include "core/base/parameters.hpp"
 #include "core/base/types.hpp"
 #include "core/run/stability.hpp"
+#include "core/walls/wall_motion.hpp"
 #include "core/walls/wall_treatment.hpp"
 
 namespace mps_lab {
@@ -32,6 +33,10 @@ struct TankWalls {
   // of wall particles fills each with `layers` layers from its surface inwards, the others
   // take its four faces as wall segments (core/walls/wall_geometry.hpp).
   std::vector<Box> obstacles;
+  // One per obstacle (walls.obstacles[k].motion): its prescribed motion, MotionLaw::None when
+  // it is fixed (core/walls/wall_motion.hpp).
+  std::vector<WallMotion> motions;
+  bool any_moving() const;
 };
 
 struct FluidBlock {

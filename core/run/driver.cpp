@@ -71,16 +71,31 @@ bool wants_wall_particles(const Scene& scene, const MethodInfo& info) {
   return boundary == nullptr || boundary->info->wall_particles;
 }
 
+// A moving obstacle needs a boundary model whose wall follows it (WallTreatmentInfo::moving_walls).
+void check_moving_walls(const Scene& scene, const MethodConfig& config) {
+  if (!scene.walls.any_moving()) return;
+  const WallTreatmentChoice* boundary = boundary_choice(config.wall_treatments);
+  if (boundary != nullptr && boundary->info->moving_walls) return;
+  std::size_t k = 0;
+  while (!scene.walls.motions[k].moves()) ++k;
+  throw_input_error(scene.source, "walls.obstacles[" + std::to_string(k) + "].motion",
+                    "the boundary model " + (boundary != nullptr ? boundary->info->name : std::string("(none)")) +
+                        " does not move walls; expected a boundary model that does (docs/walls.md, \"Moving walls\")");
+}
+
 }  // namespace
 
 Simulation::Simulation(const Scene& scene, const MethodInfo& info, PressureSystemObserver pressure_system_observer)
     : scene_(scene),
       info_(info),
       particles_(build_particles(scene, wants_wall_particles(scene, info))),
+      moving_walls_(scene, particles_),
       monitor_(scene, scene.stability),
       sensors_(scene) {
   for (const auto& field : info.fields) particles_.add_field(field.name);
   const MethodConfig& config = scene.method_config(info.name);
+  check_moving_walls(scene, config);
+  moving_walls_.apply(particles_, 0.0);
   method_ = info.create(
       MethodSetup{scene, config.parameters, config.wall_treatments, &timers_, std::move(pressure_system_observer)});
   check_all_read(config.parameters, "method '" + info.name + "'");
@@ -93,6 +108,11 @@ Simulation::Simulation(const Scene& scene, const MethodInfo& info, PressureSyste
 
 const StepReport& Simulation::advance() {
   const double dt = method_->time_step(particles_);
+  // The clock: a compensated sum of the steps. Moving walls are put where their laws have them
+  // at the end of the step, the time the pressure solve is for.
+  const double increment = dt - time_compensation_;
+  const double next_time = time_ + increment;
+  moving_walls_.apply(particles_, next_time);
   try {
     report_ = method_->step(particles_, dt);
   } catch (const std::runtime_error& error) {
@@ -107,10 +127,8 @@ const StepReport& Simulation::advance() {
                            " statistics for " + std::to_string(info_.series_columns.size()) + " declared columns");
   }
   ++steps_;
-  const double increment = dt - time_compensation_;
-  const double sum = time_ + increment;
-  time_compensation_ = (sum - time_) - increment;
-  time_ = sum;
+  time_compensation_ = (next_time - time_) - increment;
+  time_ = next_time;
   last_dt_ = dt;
   total_iterations_ += report_.solver_iterations;
   max_iterations_ = std::max(max_iterations_, report_.solver_iterations);

@@ -19,6 +19,7 @@
 #include "core/run/pressure_sensors.hpp"
 #include "core/run/profile.hpp"
 #include "core/run/stability.hpp"
+#include "core/walls/moving_walls.hpp"
 
 namespace mps_lab {
 
@@ -74,6 +75,7 @@ class Simulation {
   const Scene& scene_;
   const MethodInfo& info_;
   ParticleSet particles_;
+  MovingWalls moving_walls_;  // obstacles with a motion law (empty: every wall fixed)
   std::unique_ptr<Method> method_;
   StabilityMonitor monitor_;
   PressureSensorRecord sensors_;

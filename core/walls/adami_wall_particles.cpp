@@ -23,6 +23,7 @@ void mps_lab_register_wall_treatment_adami_wall_particles(mps_lab::WallTreatment
   info.name = "adami_wall_particles";
   info.description = "dummy wall particles with the Adami et al. (2012) wall pressure, implicit in the ISPH PPE";
   info.role = WallTreatmentRole::Boundary;
+  info.moving_walls = true;  // wall particles: the driver moves those of moving obstacles
   info.wall_particle_model = WallParticlePressure::AdamiExtrapolated;
   info.create = [](const WallTreatmentSetup&) { return std::make_unique<AdamiWallParticles>(); };
   registry.add(std::move(info));

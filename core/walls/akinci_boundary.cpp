@@ -43,6 +43,7 @@ void mps_lab_register_wall_treatment_akinci_boundary(mps_lab::WallTreatmentRegis
           .one_of({"akinci", "lattice"}),
   };
   info.role = WallTreatmentRole::Boundary;
+  info.moving_walls = true;  // wall particles: the driver moves those of moving obstacles
   info.wall_particle_model = WallParticlePressure::AkinciMirrored;
   info.create = [](const WallTreatmentSetup& setup) { return std::make_unique<AkinciBoundary>(setup); };
   registry.add(std::move(info));

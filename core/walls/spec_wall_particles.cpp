@@ -35,6 +35,7 @@ void mps_lab_register_wall_treatment_spec_wall_particles(mps_lab::WallTreatmentR
           .at_least(0)
           .at_most(10)};
   info.role = WallTreatmentRole::Boundary;
+  info.moving_walls = true;  // wall particles: the driver moves those of moving obstacles
   info.wall_particle_model = WallParticlePressure::SolvedInPpe;
   info.create = [](const WallTreatmentSetup& setup) { return std::make_unique<SpecWallParticles>(setup); };
   registry.add(std::move(info));

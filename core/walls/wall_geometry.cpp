@@ -20,7 +20,14 @@ WallGeometry::WallGeometry(const Scene& scene)
   const double far = std::numeric_limits<double>::infinity();
   interior_.min = Vec2(walls_.left ? domain_.min.x() + h : -far, walls_.bottom ? domain_.min.y() + h : -far);
   interior_.max = Vec2(walls_.right ? domain_.max.x() - h : far, walls_.top ? domain_.max.y() - h : far);
-  for (const Box& box : walls_.obstacles) obstacles_.push_back({box.min - Vec2(h, h), box.max + Vec2(h, h)});
+  // A moving obstacle (walls.obstacles[k].motion) is not part of this fixed geometry: an empty
+  // box (nothing is inside it) and no faces. Only boundary models of wall particles move walls.
+  for (std::size_t k = 0; k < walls_.obstacles.size(); ++k) {
+    const Box& box = walls_.obstacles[k];
+    const bool moving = k < walls_.motions.size() && walls_.motions[k].moves();
+    obstacles_.push_back(moving ? Box{Vec2(far, far), Vec2(-far, -far)}
+                                : Box{box.min - Vec2(h, h), box.max + Vec2(h, h)});
+  }
 
   // Tank sides: along the surface, ending at the neighbouring side's surface, or at the domain
   // edge where that side is open.
@@ -37,6 +44,7 @@ WallGeometry::WallGeometry(const Scene& scene)
   // the bed has its bottom face inside the bottom wall) is not a wall surface.
   for (std::size_t k = 0; k < obstacles_.size(); ++k) {
     const Box& s = obstacles_[k];
+    if (s.min.x() > s.max.x()) continue;  // moving
     const int body = static_cast<int>(k);
     candidates.push_back({Vec2(s.min.x(), s.max.y()), Vec2(s.max.x(), s.max.y()), Vec2(0.0, 1.0), body});
     candidates.push_back({Vec2(s.min.x(), s.min.y()), Vec2(s.max.x(), s.min.y()), Vec2(0.0, -1.0), body});

@@ -9,7 +9,8 @@
 // from each: x_min + l0/2 for a left wall, and so on. An obstacle box (walls.obstacles,
 // corners on the lattice) holds wall particles on and inside its sides; its surface is the
 // box grown by l0/2. Every boundary model, with particles or without, thus has its wall at
-// the same place and the same fluid lattice fills the tank.
+// the same place and the same fluid lattice fills the tank. The geometry is that of the fixed
+// walls: an obstacle with a motion law (core/walls/moving_walls.hpp) is left out.
 #include <cstddef>
 #include <vector>
 

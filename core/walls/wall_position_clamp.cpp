@@ -4,7 +4,7 @@
 // and damped, v_n <- -e v_n (e = restitution, spec 0.2). Walls are the tank sides the scene
 // lists; an open side (the top in the dam break) is not clamped. An obstacle (walls.obstacles)
 // is clamped the same way: a particle inside its box grown by the offset leaves it through
-// the nearest face.
+// the nearest face. A moving obstacle is not clamped (its wall particles move with it).
 #include <algorithm>
 #include <vector>
 
@@ -21,7 +21,11 @@ class WallPositionClamp final : public WallTreatment {
     const double offset = setup.parameters.number("offset") * setup.scene.particle_spacing;
     low_ = setup.scene.domain.min + Vec2(offset, offset);
     high_ = setup.scene.domain.max - Vec2(offset, offset);
-    for (const Box& box : setup.scene.walls.obstacles) {
+    for (std::size_t k = 0; k < setup.scene.walls.obstacles.size(); ++k) {
+      // A moving obstacle (walls.obstacles[k].motion) is kept out of by its moving wall
+      // particles, not clamped at its initial box.
+      if (k < setup.scene.walls.motions.size() && setup.scene.walls.motions[k].moves()) continue;
+      const Box& box = setup.scene.walls.obstacles[k];
       obstacles_.push_back({box.min - Vec2(offset, offset), box.max + Vec2(offset, offset)});
     }
   }

@@ -167,6 +167,9 @@ struct WallTreatmentInfo {
   // Boundary models only: the model of wall particles it is (the WallTreatment it creates is
   // then a WallParticleModel), or none for a boundary model of wall samples.
   std::optional<WallParticlePressure> wall_particle_model = std::nullopt;
+  // Boundary models only: its wall follows the obstacles that move (walls.obstacles[k].motion,
+  // core/walls/moving_walls.hpp). A scene with a moving obstacle needs a boundary model that does.
+  bool moving_walls = false;
   // Derived, set by WallTreatmentRegistry::add: a boundary model of wall particles (the
   // ParticleSet holds walls.layers layers of them) rather than wall samples.
   bool wall_particles = false;

@@ -424,8 +424,15 @@ class DfsphMethod final : public Method {
   // W and grad W of every neighbour pair and wall sample, once per step at x^n: every operator
   // and solver iteration of the step reads them.
   void cache_kernels(const ParticleSet& particles) {
-    compute_kernel_cache(particles, neighbours_, kernel_, particle_mass_, boundary_mass_, cache_);
     const double l0 = scene_.particle_spacing;
+    if (!particles.wall_velocity.empty() && boundary_volume_ == BoundaryVolume::Akinci) {
+      // Moving walls (core/walls/moving_walls.hpp): Akinci's V_b = 1 / sum_k W_bk changes as
+      // they move, so it is summed again at the wall positions of this step.
+      compute_kernel_cache(particles, neighbours_, kernel_, cache_);
+      compute_boundary_masses(particles, neighbours_, cache_, boundary_wall_layers_, rest_density_, boundary_volume_,
+                              l0 * l0, boundary_mass_);
+    }
+    compute_kernel_cache(particles, neighbours_, kernel_, particle_mass_, boundary_mass_, cache_);
     compute_sample_cache(particles, samples_, kernel_, rest_density_, l0 * l0, sample_cache_);
   }
 

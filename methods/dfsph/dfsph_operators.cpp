@@ -233,7 +233,8 @@ void compute_density_change_rate(const ParticleSet& particles, const SphSystem& 
       if (particles.type[j] == ParticleType::Fluid) {
         sum += m * (vi - particles.velocity[j]).dot(system.kernel.gradient[k]);
       } else if (is_boundary(particles, system, j)) {
-        sum += system.boundary_mass[j] * vi.dot(system.kernel.gradient[k]);  // v_b = 0
+        // v_b: 0, or the velocity of a moving obstacle (core/walls/moving_walls.hpp)
+        sum += system.boundary_mass[j] * (vi - particles.prescribed_wall_velocity(j)).dot(system.kernel.gradient[k]);
       }
     });
     if (system.has_samples()) {
@@ -270,6 +271,7 @@ void add_viscous_acceleration(const ParticleSet& particles, const SphSystem& sys
       } else if (is_boundary(particles, system, j)) {
         mass = system.boundary_mass[j];
         rho_j = rho0;
+        vj = particles.prescribed_wall_velocity(j);  // no slip: at rest, or a moving obstacle's velocity
       } else {
         return;
       }

@@ -28,7 +28,8 @@ const Vec2* prepare(const ParticleSet& particles, const SphSystem& system, std::
   for (std::size_t i = 0; i < n; ++i) {
     const bool fluid = particles.type[i] == ParticleType::Fluid;
     if (fluid) w.fluid.push_back(static_cast<std::uint32_t>(i));
-    w.velocity[i] = fluid ? particles.velocity[i] : Vec2::Zero();
+    // A boundary particle at rest, or moving with its obstacle (core/walls/moving_walls.hpp).
+    w.velocity[i] = fluid ? particles.velocity[i] : particles.prescribed_wall_velocity(i);
     w.increment[i] = 0.0;
     w.stiffness_over_density[i] = 0.0;
     if (!fluid) stiffness[i] = 0.0;

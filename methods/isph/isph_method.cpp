@@ -245,15 +245,19 @@ class IsphMethod final : public Method {
       summation_density(particles, neighbours_, samples_, kernel_, mass_, rest_density_, density);  // rho*
       detect_free_surface(particles, density, rho, free_surface);
 
-      // Predicted velocities for div u*: fluid u*; a wall gets dt g, the velocity the body force
-      // alone would give it, which its pressure (Adami eq. 27: grad p = rho g inside the wall)
-      // then removes. Hence fluid at rest has div u* = 0 next to a wall as in the interior, and
-      // only motion relative to the wall is a source (consistent with the wall rows of the PPE).
+      // Predicted velocities for div u*: fluid u*; a wall gets u_w + dt (g - a_w), its velocity
+      // plus what the body force alone would add, which its pressure (Adami eq. 27:
+      // grad p = rho (g - a_w) inside the wall) then removes (u_w = a_w = 0 for a fixed wall, a
+      // moving obstacle's law otherwise). Hence fluid at rest has div u* = 0 next to a wall as in
+      // the interior, and only motion relative to the wall is a source (consistent with the wall
+      // rows of the PPE).
 #pragma omp parallel for schedule(static)
       for (std::ptrdiff_t i = 0; i < count; ++i) {
-        predicted_velocity_[i] = particles.type[i] == ParticleType::Fluid  ? particles.velocity[i]
-                                 : particles.type[i] == ParticleType::Wall ? Vec2(dt * gravity)
-                                                                           : Vec2::Zero();
+        predicted_velocity_[i] = particles.type[i] == ParticleType::Fluid ? particles.velocity[i]
+                                 : particles.type[i] == ParticleType::Wall
+                                     ? Vec2(particles.prescribed_wall_velocity(i) +
+                                            dt * (gravity - particles.prescribed_wall_acceleration(i)))
+                                     : Vec2::Zero();
       }
       // Wall samples likewise: u*_w = dt g + M_w (u*_s - dt g): a fixed wall point has dt g, a
       // mirror image the mirrored motion of its source relative to that (docs/methods/isph.md,
@@ -341,9 +345,10 @@ class IsphMethod final : public Method {
     return rest_density_field_;
   }
 
+  // Walls at rest, or at the velocity of a moving obstacle's law (core/walls/moving_walls.hpp).
   static void fix_walls(ParticleSet& particles) {
     for (std::size_t i = 0; i < particles.size(); ++i) {
-      if (particles.type[i] == ParticleType::Wall) particles.velocity[i] = Vec2::Zero();
+      if (particles.type[i] == ParticleType::Wall) particles.velocity[i] = particles.prescribed_wall_velocity(i);
     }
   }
 

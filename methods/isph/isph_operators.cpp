@@ -73,7 +73,9 @@ void add_viscous_acceleration(const ParticleSet& particles, const NeighbourList&
     for_each_neighbour(neighbours, i, [&](std::uint32_t j) {
       if (particles.type[j] == ParticleType::Ghost) return;
       const double factor = laplacian_pair_factor(kernel, particles.position[i] - particles.position[j], eta2);
-      const Vec2 u_j = particles.type[j] == ParticleType::Wall ? Vec2::Zero() : particles.velocity[j];
+      // A wall particle at rest, or moving with its obstacle (no slip: its prescribed velocity).
+      const Vec2 u_j =
+          particles.type[j] == ParticleType::Wall ? particles.prescribed_wall_velocity(j) : particles.velocity[j];
       // Morris et al. (1997) viscous term, mu = rho nu: m (mu_i + mu_j)/(rho_i rho_j) F_ij (u_i - u_j)
       sum += mass * (density[i] + density[j]) / (density[i] * density[j]) * factor * (particles.velocity[i] - u_j);
     });

@@ -74,8 +74,8 @@ bool PressurePoissonSolver::wall_row(const RowInputs& in, int row, std::size_t i
   const SphKernel& kernel = in.kernel;
   const std::vector<double>& density = in.density;
   bool grounded = false;
-  // Adami, Hu & Adams (2012), eq. 27 with a_w = 0:
-  //   p_w = (sum_f p_f W_wf + g . sum_f rho_f (x_w - x_f) W_wf) / sum_f W_wf
+  // Adami, Hu & Adams (2012), eq. 27, a_w the wall's acceleration (0 unless its obstacle moves):
+  //   p_w = (sum_f p_f W_wf + (g - a_w) . sum_f rho_f (x_w - x_f) W_wf) / sum_f W_wf
   double weight_sum = 0.0;
   Vec2 head = Vec2::Zero();
   for_each_neighbour(in.neighbours, i, [&](std::uint32_t f) {
@@ -95,7 +95,7 @@ bool PressurePoissonSolver::wall_row(const RowInputs& in, int row, std::size_t i
     }
   });
   writer.value(0) = 1.0;
-  rhs_[static_cast<std::size_t>(row)] = in.settings.gravity.dot(head);
+  rhs_[static_cast<std::size_t>(row)] = (in.settings.gravity - particles.prescribed_wall_acceleration(i)).dot(head);
   return grounded;
 }
 

@@ -327,9 +327,11 @@ class MpsMethod final : public Method {
     walls_.build_wall_samples(context, samples_);  // timed as "wall_treatment"
   }
 
-  static void fix_walls(ParticleSet& particles) {  // spec §7: wall velocity (and acceleration) zero
+  // Spec §7: wall velocity (and acceleration) zero; a moving obstacle's wall particles keep the
+  // velocity of its law (core/walls/moving_walls.hpp), the wall velocity of the viscous term.
+  static void fix_walls(ParticleSet& particles) {
     for (std::size_t i = 0; i < particles.size(); ++i) {
-      if (particles.type[i] == ParticleType::Wall) particles.velocity[i] = Vec2::Zero();
+      if (particles.type[i] == ParticleType::Wall) particles.velocity[i] = particles.prescribed_wall_velocity(i);
     }
   }
 
