@@ -59,8 +59,9 @@ TEST_CASE("every method times its phases - and they cover the stepping time", "[
     DYNAMIC_SECTION(info->name) {
       const Scene scene = load("dambreak.json");
       long long systems = 0;  // linear pressure systems the method solved (MethodSetup::pressure_system_observer)
-      Simulation simulation(scene, *info, [&systems](const CsrMatrix&, const std::vector<double>&,
-                                                     const ProjectionSolverSettings&) { ++systems; });
+      Simulation simulation(
+          scene, *info,
+          [&systems](const CsrMatrix&, const std::vector<double>&, const ProjectionSolverSettings&) { ++systems; });
       CHECK(simulation.timers().calls("setup") == 1);
       simulation.timers().reset();
       const long long steps = 40;

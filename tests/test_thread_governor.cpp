@@ -1,7 +1,7 @@
 // The thread governor (core/run/thread_governor.hpp): it measures each candidate team, keeps the
 // faster, measures again after its period, and a fixed team or a single thread measures nothing.
-#include <catch2/catch.hpp>
 #include <omp.h>
+#include <catch2/catch.hpp>
 
 #include "core/run/thread_governor.hpp"
 

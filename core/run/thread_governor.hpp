@@ -20,10 +20,10 @@
 namespace mps_lab {
 
 struct ThreadGovernorSettings {
-  int max_threads = 1;            // the largest team (OMP_NUM_THREADS or the cores)
-  int fixed_threads = 0;          // > 0: always this team, nothing measured
-  int probe_steps = 3;            // steps timed per candidate team; the fastest one counts
-  long long period_steps = 200;   // steps run with the chosen team before measuring again
+  int max_threads = 1;           // the largest team (OMP_NUM_THREADS or the cores)
+  int fixed_threads = 0;         // > 0: always this team, nothing measured
+  int probe_steps = 3;           // steps timed per candidate team; the fastest one counts
+  long long period_steps = 200;  // steps run with the chosen team before measuring again
 };
 
 class ThreadGovernor {

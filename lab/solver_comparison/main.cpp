@@ -37,6 +37,9 @@ struct BenchOptions {
   std::string scene;
   std::vector<double> spacings{0.005};
   std::vector<int> threads{1};
+  // time.time_step = this x l0 (s/m): the spec's 5e-4 s at l0 = 0.025, and a Courant number that
+  // stays below 1 at every spacing (the performance study's rule, docs/performance.md).
+  double time_step_per_spacing = 0.02;
   int repeats = 3;
   long long from_step = 1;
   std::string json;
@@ -129,6 +132,23 @@ nlohmann::json system_json(const PressureSystem& system) {
           {"tolerance", system.tolerance}};
 }
 
+// Records the method's system; false (and a line on rank 0) when it solves none or its run stops
+// before one (a method's own failure is reported, not fatal to the comparison of the others).
+bool record_or_report(const BenchOptions& options, const std::vector<std::string>& overrides,
+                      const mps_lab::MethodRegistry& methods, const mps_lab::MethodInfo& method,
+                      const mps_lab::WallTreatmentRegistry& walls, double spacing, int rank, PressureSystem& system) {
+  std::string why = "solves no linear pressure system";
+  try {
+    if (mps_lab::record_pressure_system(options.scene, overrides, methods, method, walls, options.from_step, system)) {
+      return true;
+    }
+  } catch (const std::runtime_error& error) {
+    why = std::string("stopped before a system: ") + error.what();
+  }
+  if (rank == 0) std::printf("%-6s %9.5f  %s\n", method.name.c_str(), spacing, why.c_str());
+  return false;
+}
+
 nlohmann::json run_comparison(const BenchOptions& options, int ranks, int rank) {
   const mps_lab::MethodRegistry methods = mps_lab::builtin_methods();
   const mps_lab::WallTreatmentRegistry walls = mps_lab::builtin_wall_treatments();
@@ -140,13 +160,11 @@ nlohmann::json run_comparison(const BenchOptions& options, int ranks, int rank) 
   for (double spacing : options.spacings) {
     for (const mps_lab::MethodInfo* method : methods.all()) {
       PressureSystem system;
-      const std::vector<std::string> overrides{"particle_spacing=" + mps_lab::format_double(spacing)};
+      const std::vector<std::string> overrides{
+          "particle_spacing=" + mps_lab::format_double(spacing),
+          "time.time_step=" + mps_lab::format_double(options.time_step_per_spacing * spacing)};
       omp_set_num_threads(options.threads.back());
-      if (!mps_lab::record_pressure_system(options.scene, overrides, methods, *method, walls, options.from_step,
-                                           system)) {
-        if (rank == 0) std::printf("%-6s %9.5f  solves no linear pressure system\n", method->name.c_str(), spacing);
-        continue;
-      }
+      if (!record_or_report(options, overrides, methods, *method, walls, spacing, rank, system)) continue;
       nlohmann::json entry = system_json(system);
       entry["solves"] = compare_on(system, options, ranks, rank);
       cases.push_back(entry);
@@ -169,6 +187,8 @@ int main(int argc, char** argv) {
   app.add_option("scene", options.scene, "scene file (default: scenes/dambreak.json)");
   app.add_option("--spacings", options.spacings, "particle spacings, m")->delimiter(',');
   app.add_option("--threads", options.threads, "OpenMP threads of the project's AMG (one rank only)")->delimiter(',');
+  app.add_option("--time-step-per-spacing", options.time_step_per_spacing, "time.time_step / particle_spacing, s/m")
+      ->check(CLI::PositiveNumber);
   app.add_option("--repeats", options.repeats, "timings per solve; the best is reported")->check(CLI::PositiveNumber);
   app.add_option("--from-step", options.from_step, "record the first system at or after this step")
       ->check(CLI::PositiveNumber);
