@@ -71,16 +71,22 @@ bool wants_wall_particles(const Scene& scene, const MethodInfo& info) {
   return boundary == nullptr || boundary->info->wall_particles;
 }
 
-// A moving obstacle needs a boundary model whose wall follows it (WallTreatmentInfo::moving_walls).
-void check_moving_walls(const Scene& scene, const MethodConfig& config) {
+// A moving obstacle needs a boundary model whose wall follows it (WallTreatmentInfo::moving_walls)
+// and a method whose operators use the walls' velocity (MethodInfo::moving_walls).
+void check_moving_walls(const Scene& scene, const MethodInfo& method, const MethodConfig& config) {
   if (!scene.walls.any_moving()) return;
   const WallTreatmentChoice* boundary = boundary_choice(config.wall_treatments);
-  if (boundary != nullptr && boundary->info->moving_walls) return;
+  const bool model_moves = boundary != nullptr && boundary->info->moving_walls;
+  if (model_moves && method.moving_walls) return;
   std::size_t k = 0;
   while (!scene.walls.motions[k].moves()) ++k;
+  const std::string why =
+      !method.moving_walls
+          ? "method '" + method.name + "' does not use a wall's velocity; expected a method that does"
+          : "the boundary model " + (boundary != nullptr ? boundary->info->name : std::string("(none)")) +
+                " does not move walls; expected a boundary model that does";
   throw_input_error(scene.source, "walls.obstacles[" + std::to_string(k) + "].motion",
-                    "the boundary model " + (boundary != nullptr ? boundary->info->name : std::string("(none)")) +
-                        " does not move walls; expected a boundary model that does (docs/walls.md, \"Moving walls\")");
+                    why + " (docs/walls.md, \"Moving walls\")");
 }
 
 }  // namespace
@@ -94,7 +100,7 @@ Simulation::Simulation(const Scene& scene, const MethodInfo& info, PressureSyste
       sensors_(scene) {
   for (const auto& field : info.fields) particles_.add_field(field.name);
   const MethodConfig& config = scene.method_config(info.name);
-  check_moving_walls(scene, config);
+  check_moving_walls(scene, info, config);
   moving_walls_.apply(particles_, 0.0);
   method_ = info.create(
       MethodSetup{scene, config.parameters, config.wall_treatments, &timers_, std::move(pressure_system_observer)});

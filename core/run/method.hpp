@@ -102,6 +102,11 @@ struct MethodInfo {
   // The models of wall particles its operators implement (WallParticleModel): it runs with
   // every boundary model of wall particles that is one of them.
   std::vector<WallParticlePressure> wall_particle_models;
+  // True when its operators use the prescribed velocity and acceleration of moving wall
+  // particles (ParticleSet::wall_velocity, wall_acceleration; core/walls/moving_walls.hpp): a
+  // scene with a moving obstacle runs only with such a method and a boundary model that moves
+  // its walls (WallTreatmentInfo::moving_walls).
+  bool moving_walls = false;
   std::function<std::unique_ptr<Method>(const MethodSetup&)> create;
 };
 

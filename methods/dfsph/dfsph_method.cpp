@@ -550,6 +550,7 @@ void mps_lab_register_method_dfsph(mps_lab::MethodRegistry& registry) {
   info.default_wall_treatments = {"akinci_boundary"};
   info.wall_samples = true;  // its operators sum over wall samples (core/walls/wall_samples.hpp)
   info.wall_particle_models = {WallParticlePressure::AkinciMirrored};  // akinci_boundary
+  info.moving_walls = true;  // wall velocity in the viscous term and the wall pressure (docs/walls.md, "Moving walls")
   info.wall_hooks = dfsph::kWallHooks;
   info.create = [](const MethodSetup& setup) { return std::make_unique<dfsph::DfsphMethod>(setup); };
   registry.add(std::move(info));

@@ -545,6 +545,7 @@ void mps_lab_register_method_isph(mps_lab::MethodRegistry& registry) {
   // distance_function (docs/methods/isph.md, "Wall boundary models").
   info.wall_samples = true;
   info.wall_particle_models = {WallParticlePressure::AdamiExtrapolated};  // adami_wall_particles
+  info.moving_walls = true;  // wall velocity in the viscous term and the wall pressure (docs/walls.md, "Moving walls")
   info.wall_hooks = isph::kWallHooks;
   // The step: the scene's fixed step by default (as mps); "cfl" adapts it to the flow. 0.25
   // keeps a margin below the largest stable fixed Courant number 0.4 measured with

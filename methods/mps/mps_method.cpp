@@ -433,6 +433,7 @@ void mps_lab_register_method_mps(mps_lab::MethodRegistry& registry) {
                                   "particle_collision"};
   info.wall_samples = true;
   info.wall_particle_models = {WallParticlePressure::SolvedInPpe};  // spec_wall_particles
+  info.moving_walls = true;  // wall velocity in the viscous term and the wall pressure (docs/walls.md, "Moving walls")
   info.wall_hooks = mps::kWallHooks;
   info.create = [](const MethodSetup& setup) { return std::make_unique<mps::MpsMethod>(setup); };
   registry.add(std::move(info));
