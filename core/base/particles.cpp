@@ -36,4 +36,10 @@ const std::vector<double>& ParticleSet::field(const std::string& name) const {
   return found->second;
 }
 
+void hold_walls_at_prescribed_velocity(ParticleSet& particles) {
+  for (std::size_t i = 0; i < particles.size(); ++i) {
+    if (particles.type[i] == ParticleType::Wall) particles.velocity[i] = particles.prescribed_wall_velocity(i);
+  }
+}
+
 }  // namespace mps_lab

@@ -44,4 +44,9 @@ struct ParticleSet {
   const std::vector<double>& field(const std::string& name) const;
 };
 
+// Every wall particle's velocity to its prescribed one: zero for a fixed wall (spec §7), the
+// motion law's for a moving obstacle's (core/walls/moving_walls.hpp). The methods call it after
+// each velocity update, so that the viscous term sees the wall's own velocity.
+void hold_walls_at_prescribed_velocity(ParticleSet& particles);
+
 }  // namespace mps_lab

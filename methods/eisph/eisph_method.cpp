@@ -198,7 +198,7 @@ class EisphMethod final : public Method {
       const auto timed = measure(timers_, integration_phase_);
       for_each_fluid_particle(particles,
                               [&](std::ptrdiff_t i) { particles.position[i] += dt * particles.velocity[i]; });
-      fix_walls(particles);
+      hold_walls_at_prescribed_velocity(particles);
     }
     walls_.after_explicit_position(context);
   }
@@ -289,7 +289,7 @@ class EisphMethod final : public Method {
         particles.velocity[i] += dt * acceleration_[i];         // u^{n+1} = u* - dt grad p / rho
         particles.position[i] += dt * (dt * acceleration_[i]);  // r^{n+1} = r* + dt (u^{n+1} - u*)
       });
-      fix_walls(particles);
+      hold_walls_at_prescribed_velocity(particles);
     }
     walls_.after_correction(context);
     {
@@ -308,12 +308,6 @@ class EisphMethod final : public Method {
     context.samples = &samples_;
     context.support = kernel_.support();
     walls_.build_wall_samples(context, samples_);
-  }
-
-  static void fix_walls(ParticleSet& particles) {
-    for (std::size_t i = 0; i < particles.size(); ++i) {
-      if (particles.type[i] == ParticleType::Wall) particles.velocity[i] = Vec2::Zero();
-    }
   }
 
   StepReport report(const ParticleSet& particles, const SweepResult& sweep) const {

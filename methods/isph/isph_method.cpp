@@ -228,7 +228,7 @@ class IsphMethod final : public Method {
       const auto timed = measure(timers_, integration_phase_);
       for_each_fluid_particle(particles,
                               [&](std::ptrdiff_t i) { particles.position[i] += dt * particles.velocity[i]; });
-      fix_walls(particles);
+      hold_walls_at_prescribed_velocity(particles);
     }
     walls_.after_explicit_position(context);
   }
@@ -315,7 +315,7 @@ class IsphMethod final : public Method {
           particles.position[i] = start_position_[i] + 0.5 * dt * (start_velocity_[i] + particles.velocity[i]);
         }
       }
-      fix_walls(particles);
+      hold_walls_at_prescribed_velocity(particles);
     }
     walls_.after_correction(context);
     {
@@ -343,13 +343,6 @@ class IsphMethod final : public Method {
     if (use_summation_density_) return summation;
     rest_density_field_.assign(summation.size(), rest_density_);
     return rest_density_field_;
-  }
-
-  // Walls at rest, or at the velocity of a moving obstacle's law (core/walls/moving_walls.hpp).
-  static void fix_walls(ParticleSet& particles) {
-    for (std::size_t i = 0; i < particles.size(); ++i) {
-      if (particles.type[i] == ParticleType::Wall) particles.velocity[i] = particles.prescribed_wall_velocity(i);
-    }
   }
 
   // Free surface (Dirichlet p = 0): rho*_i / rho0 < beta (Shao & Lo 2003), or

@@ -214,7 +214,7 @@ class MpsMethod final : public Method {
       for (std::ptrdiff_t i = 0; i < count; ++i) {
         if (particles.type[i] == ParticleType::Fluid) particles.position[i] += dt * particles.velocity[i];  // 5.1-5
       }
-      fix_walls(particles);  // 5.1-6
+      hold_walls_at_prescribed_velocity(particles);  // 5.1-6
     }
     walls_.after_explicit_position(context);  // 5.1-7 position clamp
   }
@@ -276,7 +276,7 @@ class MpsMethod final : public Method {
         particles.velocity[i] += dt * acceleration_[i];
         particles.position[i] += dt * (dt * acceleration_[i]);
       }
-      fix_walls(particles);  // 5.2-9
+      hold_walls_at_prescribed_velocity(particles);  // 5.2-9
     }
     walls_.after_correction(context);  // 5.2-10 position clamp
     {
@@ -325,14 +325,6 @@ class MpsMethod final : public Method {
   void search_with_samples(const ParticleSet& particles, WallContext& context) {
     search(particles, context);
     walls_.build_wall_samples(context, samples_);  // timed as "wall_treatment"
-  }
-
-  // Spec §7: wall velocity (and acceleration) zero; a moving obstacle's wall particles keep the
-  // velocity of its law (core/walls/moving_walls.hpp), the wall velocity of the viscous term.
-  static void fix_walls(ParticleSet& particles) {
-    for (std::size_t i = 0; i < particles.size(); ++i) {
-      if (particles.type[i] == ParticleType::Wall) particles.velocity[i] = particles.prescribed_wall_velocity(i);
-    }
   }
 
   const Scene& scene_;

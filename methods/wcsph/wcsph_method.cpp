@@ -258,7 +258,7 @@ class WcsphMethod final : public Method {
       const auto timed = measure(timers_, integration_phase_);
       for_each_fluid_particle(particles,
                               [&](std::ptrdiff_t i) { particles.position[i] += dt * particles.velocity[i]; });
-      fix_walls(particles);
+      hold_walls_at_prescribed_velocity(particles);
     }
     walls_.after_explicit_position(context);
   }
@@ -332,12 +332,6 @@ class WcsphMethod final : public Method {
     context.samples = &samples_;
     context.support = kernel_.support();
     walls_.build_wall_samples(context, samples_);
-  }
-
-  static void fix_walls(ParticleSet& particles) {
-    for (std::size_t i = 0; i < particles.size(); ++i) {
-      if (particles.type[i] == ParticleType::Wall) particles.velocity[i] = Vec2::Zero();
-    }
   }
 
   StepReport report(const ParticleSet& particles) {
