@@ -1,6 +1,7 @@
 #include "core/run/time_step.hpp"
 
 #include <algorithm>
+#include <cmath>
 
 #include "core/base/error.hpp"
 #include "core/io/checkpoint.hpp"
@@ -92,6 +93,15 @@ void TimeStepClock::restore(CheckpointReader& in) {
   smallest_ = in.read_double();
   largest_ = in.read_double();
   steps_ = in.read_int();
+}
+
+double largest_fluid_speed(const ParticleSet& particles) {
+  double max_speed2 = 0.0;
+  for (std::size_t i = 0; i < particles.size(); ++i) {
+    if (particles.type[i] == ParticleType::Fluid)
+      max_speed2 = std::max(max_speed2, particles.velocity[i].squaredNorm());
+  }
+  return std::sqrt(max_speed2);
 }
 
 }  // namespace mps_lab

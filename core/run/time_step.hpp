@@ -19,6 +19,7 @@
 #include <nlohmann/json.hpp>
 
 #include "core/base/parameters.hpp"
+#include "core/base/particles.hpp"
 
 namespace mps_lab {
 
@@ -79,5 +80,8 @@ class TimeStepClock {
   double smallest_ = std::numeric_limits<double>::infinity(), largest_ = 0.0;  // s
   long long steps_ = 0;
 };
+
+// max_i |u_i| over the fluid particles, m/s: the speed of a CFL step rule.
+double largest_fluid_speed(const ParticleSet& particles);
 
 }  // namespace mps_lab

@@ -108,13 +108,8 @@ class EisphMethod final : public Method {
   // the scene's step.
   double time_step(const ParticleSet& particles) const override {
     if (!time_step_settings_.cfl) return scene_.time.time_step;
-    double max_speed2 = 0.0;
-    for (std::size_t i = 0; i < particles.size(); ++i) {
-      if (particles.type[i] == ParticleType::Fluid)
-        max_speed2 = std::max(max_speed2, particles.velocity[i].squaredNorm());
-    }
     const double gained = clock_.steps() > 0 ? scene_.physics.gravity.norm() * clock_.last() : 0.0;
-    return clock_.next(time_step_settings_, std::sqrt(max_speed2) + gained, scene_.particle_spacing,
+    return clock_.next(time_step_settings_, largest_fluid_speed(particles) + gained, scene_.particle_spacing,
                        scene_.time.end_time);
   }
 
