@@ -395,9 +395,12 @@ TEST_CASE("isph: the dam break to T = 10 s settles to hydrostatic", "[stability]
 TEST_CASE("dfsph: the dam break to T = 10 s settles", "[stability][dfsph]") {
   const EdgeRun run = long_run("dfsph");
   long_run_settles(run);
-  // Known open problem (docs/stability.md, docs/methods/dfsph.md): in the settled layer,
-  // four particles deep, DFSPH's boundary rows carry too much pressure, so the fitted
-  // dp/dy is 1.86 rho g (measured), not rho g. Checked in the [!mayfail] case below.
+  // Known open problem (docs/stability.md, docs/methods/dfsph.md "At the walls"): in the
+  // settled layer, four particles deep, DFSPH's boundary rows carry too much pressure, so the
+  // fitted dp/dy is 1.86 rho g (measured), not rho g. Not a conversion error (p = (kappa +
+  // kappa^v) rho is the pressure the step applied, tests/test_dfsph_pressure.cpp): with the
+  // one-sided Akinci wall term each column's weight rests on the first row's stiffness alone,
+  // which needs about twice the hydrostatic pressure there. Checked in the [!mayfail] case below.
 }
 #endif
 

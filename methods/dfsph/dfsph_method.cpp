@@ -118,6 +118,7 @@ class DfsphMethod final : public Method {
     divergence_min_neighbours_ = static_cast<std::uint32_t>(
         std::ceil(p.number("divergence_neighbour_fraction") * static_cast<double>(full_neighbour_count_) - 1e-9));
     sample_hydrostatic_ = p.boolean("wall_sample_hydrostatic");
+    hydrostatic_start_ = p.string("initial_stiffness") == "hydrostatic";
     if (const WallParticleModel* model = walls_.wall_particle_model()) {  // akinci_boundary
       if (model->pressure() != WallParticlePressure::AkinciMirrored) {
         throw std::logic_error(std::string("dfsph: wall-particle model ") +
@@ -155,14 +156,18 @@ class DfsphMethod final : public Method {
     cache_kernels(particles);
     auto& volume = particles.field("boundary_volume");
     for (std::size_t i = 0; i < n; ++i) volume[i] = boundary_mass_[i] / rest_density_;
-    density_stiffness_.assign(n, 0.0);
-    divergence_stiffness_.assign(n, 0.0);
+    start_stiffnesses(particles);
     acceleration_.assign(n, Vec2::Zero());
     for (std::size_t i = 0; i < n; ++i) {
       if (particles.type[i] == ParticleType::Fluid) acceleration_[i] = scene_.physics.gravity;
     }
     clock_.start(scene_.time.time_step);
-    compute_densities(particles, system(), particles.field("density"));  // for the frame at t = 0
+    auto& density = particles.field("density");
+    compute_densities(particles, system(), density);  // for the frame at t = 0
+    for (std::size_t i = 0; i < n; ++i) {             // the pressure of the initial stiffness, for the frame at t = 0
+      if (particles.type[i] == ParticleType::Fluid)
+        particles.pressure[i] = stiffness_pressure(density_stiffness_[i], 0.0, density[i]);
+    }
   }
 
   // CFL rule ([BK17], Algorithm 1: dt <= 0.4 d / |v_max|, d = l0 the particle diameter),
@@ -344,15 +349,34 @@ class DfsphMethod final : public Method {
     }
   }
 
-  // 7. constant-density solver (Algorithm 3)
+  // The stiffnesses the solvers start from: zero, or (initial_stiffness = hydrostatic) the
+  // density solver's kappa of the fluid at rest, |g| times the depth below the nearest free
+  // surface (hydrostatic_stiffness). Needs the kernel cache and the boundary masses.
+  void start_stiffnesses(const ParticleSet& particles) {
+    const std::size_t n = particles.size();
+    if (hydrostatic_start_) {
+      std::vector<double> counts;
+      count_active_neighbours(particles, system(), counts);
+      hydrostatic_stiffness(particles, neighbours_, counts, static_cast<double>(full_neighbour_count_),
+                            scene_.physics.gravity.norm(), scene_.particle_spacing, density_stiffness_);
+    } else {
+      density_stiffness_.assign(n, 0.0);
+    }
+    divergence_stiffness_.assign(n, 0.0);
+  }
+
+  // 7. constant-density solver (Algorithm 3). The run's first solve starts from the initial
+  // stiffness in full (where compressed, as every warm start): it estimates this step's
+  // stiffness, not a last step's total to be scaled by warm_start_fraction.
   SolverOutcome solve_density(ParticleSet& particles, const SphSystem& sph, double dt) {
     const auto& density = particles.field("density");
     const auto& alpha = particles.field("dfsph_factor");
     SolverOutcome pressure;
     {
       const auto timed = measure(timers_, density_phase_);
-      pressure =
-          correct_density_error(particles, sph, density, alpha, dt, density_settings_, density_stiffness_, workspace_);
+      SolverSettings settings = density_settings_;
+      if (hydrostatic_start_ && density_totals_.solves == 0) settings.warm_start_fraction = 1.0;
+      pressure = correct_density_error(particles, sph, density, alpha, dt, settings, density_stiffness_, workspace_);
       density_totals_.add(pressure);
     }
     return pressure;
@@ -375,7 +399,7 @@ class DfsphMethod final : public Method {
         const bool fluid = particles.type[i] == ParticleType::Fluid;
         divergence_pressure[i] = fluid ? divergence_stiffness_[i] * density[i] : 0.0;
         if (!fluid) continue;
-        particles.pressure[i] = density_stiffness_[i] * density[i] + divergence_pressure[i];
+        particles.pressure[i] = stiffness_pressure(density_stiffness_[i], divergence_stiffness_[i], density[i]);
         particles.position[i] += dt * particles.velocity[i];
       }
     }
@@ -470,6 +494,7 @@ class DfsphMethod final : public Method {
   int boundary_wall_layers_ = 3;
   BoundaryVolume boundary_volume_ = BoundaryVolume::Akinci;
   bool sample_hydrostatic_ = false;
+  bool hydrostatic_start_ = false;  // initial_stiffness = hydrostatic
 
   CellList cells_;
   NeighbourList neighbours_;
@@ -534,6 +559,10 @@ void mps_lab_register_method_dfsph(mps_lab::MethodRegistry& registry) {
           "share of the last step's stiffness both solvers start from (SPlisHSPlasH 0.5; BK17 text: the sum)")
           .at_least(0.0)
           .at_most(1.0),
+      string_parameter("initial_stiffness", "zero",
+                       "the density solver's stiffness before the first step: zero (cold start) or hydrostatic (|g| "
+                       "times the depth below the nearest free surface, applied in full by the first solve)")
+          .one_of({"hydrostatic", "zero"}),
       boolean_parameter("wall_sample_hydrostatic", false,
                         "wall samples (boundary models without wall particles): add the hydrostatic part "
                         "rho0 g.(x_w - x_s) of their pressure as an explicit force (measured harmful)"),

@@ -1,7 +1,11 @@
 #include "methods/dfsph/dfsph_operators.hpp"
 
+#include <algorithm>
 #include <cmath>
+#include <limits>
+#include <queue>
 #include <stdexcept>
+#include <utility>
 
 #include "core/search/for_each_neighbour.hpp"
 
@@ -358,6 +362,38 @@ void add_sample_hydrostatic_acceleration(const ParticleSet& particles, const Sph
       sum -= w.mass[k] * offset / (rho_s * rho_s) * w.gradient[k];
     });
     acceleration[i] += sum;
+  }
+}
+
+void hydrostatic_stiffness(const ParticleSet& particles, const NeighbourList& neighbours,
+                           const std::vector<double>& neighbour_counts, double full_count, double gravity,
+                           double spacing, std::vector<double>& stiffness) {
+  const std::size_t n = particles.size();
+  const double unreached = std::numeric_limits<double>::infinity();
+  std::vector<double> depth(n, unreached);  // m
+  using Entry = std::pair<double, std::uint32_t>;
+  std::priority_queue<Entry, std::vector<Entry>, std::greater<Entry>> front;
+  for (std::size_t i = 0; i < n; ++i) {  // the free surface: fluid particles short of neighbours
+    if (particles.type[i] != ParticleType::Fluid || neighbour_counts[i] >= full_count - 1e-9) continue;
+    depth[i] = 0.5 * spacing;  // the surface is half a spacing beyond the particle's centre
+    front.emplace(depth[i], static_cast<std::uint32_t>(i));
+  }
+  while (!front.empty()) {  // Dijkstra over the fluid pairs of the neighbour list
+    const auto [d, i] = front.top();
+    front.pop();
+    if (d > depth[i]) continue;
+    for_each_neighbour(neighbours, i, [&](std::uint32_t, std::uint32_t j) {
+      if (particles.type[j] != ParticleType::Fluid) return;
+      const double through_i = d + (particles.position[i] - particles.position[j]).norm();
+      if (through_i < depth[j]) {
+        depth[j] = through_i;
+        front.emplace(through_i, j);
+      }
+    });
+  }
+  stiffness.assign(n, 0.0);
+  for (std::size_t i = 0; i < n; ++i) {
+    if (depth[i] < unreached) stiffness[i] = gravity * depth[i];  // kappa = |g| d, m^2/s^2
   }
 }
 

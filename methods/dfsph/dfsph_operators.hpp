@@ -167,6 +167,27 @@ void add_sample_hydrostatic_acceleration(const ParticleSet& particles, const Sph
                                          const std::vector<double>& density, const Vec2& gravity,
                                          std::vector<Vec2>& acceleration);
 
+// The pressure (Pa) of fluid particle i from the stiffnesses its two solvers applied in one
+// step: p_i = (kappa_i + kappa^v_i) rho_i. [BK17] eqs. (7)-(8) move i by
+// -dt sum_j m (kappa_i/rho_i + kappa_j/rho_j) grad W_ij, the symmetric SPH pressure force
+// -dt sum_j m (p_i/rho_i^2 + p_j/rho_j^2) grad W_ij for p = kappa rho (docs/methods/dfsph.md,
+// "Pressure in Pa"). kappa in m^2/s^2, rho in kg/m^3.
+inline double stiffness_pressure(double density_stiffness, double divergence_stiffness, double density) {
+  return (density_stiffness + divergence_stiffness) * density;
+}
+
+// The hydrostatic stiffness kappa_i = |g| d_i (m^2/s^2; p = kappa rho ~ rho0 |g| d_i) of fluid
+// at rest, d_i the depth of i below the nearest free surface: the free surface is half a
+// spacing beyond the fluid particles short of neighbours (`neighbour_counts` below
+// `full_count`: count_active_neighbours against the lattice count), and d_i the shortest path
+// to one of them through the fluid pairs of the neighbour list (on the lattice at most 8 %
+// longer than the straight line, exact along a lattice line). Fluid without a free surface
+// (a tank filled to its lid) and every other particle get 0. The density solver's first warm
+// start (methods.dfsph.initial_stiffness).
+void hydrostatic_stiffness(const ParticleSet& particles, const NeighbourList& neighbours,
+                           const std::vector<double>& neighbour_counts, double full_count, double gravity,
+                           double spacing, std::vector<double>& stiffness);
+
 // (The lattice density of a fluid particle with full support is m lattice_kernel_sum, in
 // core/kernels/sph_kernels.hpp.)
 // Points (i, j) != 0 of that lattice within the support: the full neighbour count.
