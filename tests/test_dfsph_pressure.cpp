@@ -80,7 +80,8 @@ TEST_CASE("DFSPH pressure: p = (kappa + kappa^v) rho on a hand-computed particle
   for (std::size_t i = 0; i < cold.particles().size(); ++i) CHECK(cold.particles().pressure[i] == 0.0);
 }
 
-TEST_CASE("DFSPH hydrostatic stiffness: |g| times the depth below the nearest free surface", "[dfsph][operators][unit]") {
+TEST_CASE("DFSPH hydrostatic stiffness: |g| times the depth below the nearest free surface",
+          "[dfsph][operators][unit]") {
   // A free block of 5 x 3 particles (l0 = 0.1 m) without walls, neighbour list by hand at the
   // lattice's 8 neighbours: the 3 particles of the middle row's interior have all 8, the 12
   // others are the free surface. Surface particles: d = l0/2 = 0.05 m, kappa = 9.81 * 0.05 =
