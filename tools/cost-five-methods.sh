@@ -7,7 +7,7 @@
 #
 # Every method at its defaults on scenes/dambreak.json to 0.5 s at l0 = 0.025, 0.0125 and
 # 0.00625 m, one thread (OMP_PROC_BIND=true), the method order rotated per repetition, the
-# median kept (analysis/mps_lab/studies/cost.py). About 3 x 10 minutes of one core when idle.
+# median kept (analysis/mps_lab/studies/cost.py). Writes docs/data/cost_per_method.{csv,md}.
 set -eu
 here=$(cd "$(dirname "$0")/.." && pwd)
 python=${PYTHON:-/usr/bin/python3}
