@@ -18,7 +18,7 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--end-time", type=float, default=0.5, help="simulated end time, s")
     parser.add_argument("--spacings", type=float, nargs="+", default=list(cost.DEFAULT_SPACINGS), help="l0, m")
     parser.add_argument("--repetitions", type=int, default=3, help="interleaved repetitions (the median is kept)")
-    parser.add_argument("--reference", help="method of the ratios (default: mps)")
+    parser.add_argument("--reference", help="method of the ratios (default: the first registered)")
     parser.add_argument("--timeout", type=float, default=cost.DEFAULT_TIMEOUT, help="seconds before a run is stopped")
     parser.add_argument("--docs", action="store_true", help="copy the CSV and markdown to docs/data/")
     args = parser.parse_args(argv)

@@ -11,4 +11,4 @@
 set -eu
 here=$(cd "$(dirname "$0")/.." && pwd)
 python=${PYTHON:-/usr/bin/python3}
-exec "$python" "$here/analysis/cost_per_method.py" --out "${COST_OUT:-$here/runs/cost_per_method}" --docs "$@"
+exec "$python" "$here/analysis/cost_per_method.py" --out "${COST_OUT:-$here/runs/cost_per_method}" --reference mps --docs "$@"

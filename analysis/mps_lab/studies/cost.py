@@ -13,7 +13,8 @@ every method alike. Each case's cost is the median over the repetitions of
   seconds per simulated second   = wall seconds / simulated time (and the same in CPU seconds,
                                    run.json's profile.cpu_seconds: what load barely changes)
   fluid particle-steps per second = fluid particles x steps / wall seconds,
-and its ratio to mps (--reference another; without mps, the first method listed). A case whose
+and its ratio to the --reference method (default: the first `mps_lab methods` lists;
+tools/cost-five-methods.sh passes --reference mps). A case whose
 run does not complete is reported with its status, not dropped.
 Writes <out>/cost_per_method.csv (one row per method and spacing) and cost_per_method.md;
 --docs copies both to docs/data/. Measure on an otherwise idle machine for wall times.
@@ -117,7 +118,7 @@ def cost(out: str, binary: str | None = None, scene: str = "scenes/dambreak.json
     except (runner.BinaryNotFound, methods.MethodListError) as error:
         print(f"cost_per_method.py: {error}", file=sys.stderr)
         return 2
-    reference = reference or ("mps" if "mps" in names else names[0])
+    reference = reference or names[0]
     if reference not in names:
         print(f"cost_per_method.py: --reference {reference}: not a registered method ({', '.join(names)})",
               file=sys.stderr)
