@@ -257,7 +257,8 @@ def plot_pareto(rows: list[dict], path: str, styles: methods.MethodStyles) -> No
                         ax.scatter([cost_seconds(r) for r in mine], [r[key] for r in mine], s=30,
                                    marker=RULE_MARKERS[m % len(RULE_MARKERS)], color=colour if filled else "none",
                                    edgecolors=colour,
-                                   label=f"{method} / {rule}" + ("" if filled else " / looser tol."))
+                                   label=f"{method} / {rule}" + ("" if filled else " / " + "+".join(
+                                       sorted({r["tolerance"] for r in mine}))))
         front = pareto_front(points)
         ax.step([points[i][0] for i in front], [points[i][1] for i in front], "k--", where="post", lw=1.0,
                 label="Pareto front (all methods)")
@@ -270,7 +271,7 @@ def plot_pareto(rows: list[dict], path: str, styles: methods.MethodStyles) -> No
         ax.set_title(title)
     handles, labels = axes[0].get_legend_handles_labels()
     fig.legend(handles, labels, loc="lower center", ncol=4, fontsize=8, frameon=False)
-    fig.suptitle("Accuracy for cost (markers: time-step rule; open: looser solver tolerance)")
+    fig.suptitle("Accuracy for cost (markers: time-step rule; open: the second axis' other value, e.g. a looser tolerance)")
     fig.tight_layout(rect=(0, 0.04 * (len(labels) // 4 + 2), 1, 1))
     fig.savefig(path)
     plt.close(fig)
