@@ -21,9 +21,12 @@ def main(argv: list[str] | None = None) -> int:
                         help="seconds before a case is stopped")
     parser.add_argument("--collect", action="store_true", help="only collect finished cases and plot")
     parser.add_argument("--no-plots", action="store_true")
+    parser.add_argument("--maps", help="run only these maps' cases (comma-separated; the others are collected)")
+    parser.add_argument("--merge", help="an earlier stability.csv: its rows stand for the cases not finished in --out")
     args = parser.parse_args(argv)
+    only = [name for name in args.maps.split(",") if name] if args.maps else None
     return stability_map.stability_map(args.spec, args.out, args.binary, args.parallel, args.timeout, args.collect,
-                                       not args.no_plots)
+                                       not args.no_plots, only, args.merge)
 
 
 if __name__ == "__main__":

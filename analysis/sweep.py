@@ -20,9 +20,13 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--jobs-file", help="write the job list (one command per line) and stop")
     parser.add_argument("--collect", action="store_true", help="only collect finished cases and plot")
     parser.add_argument("--no-plots", action="store_true")
+    parser.add_argument("--methods", help="run only these methods' cases (comma-separated; the others are collected)")
+    parser.add_argument("--merge", help="an earlier sweep.csv: its rows stand for the cases not finished in --out")
+    parser.add_argument("--threads", type=int, help="OpenMP threads per case (default: cores / parallel)")
     args = parser.parse_args(argv)
+    only = [m for m in args.methods.split(",") if m] if args.methods else None
     return sweep.sweep(args.spec, args.out, args.binary, args.parallel, args.timeout, args.jobs_file, args.collect,
-                       not args.no_plots)
+                       not args.no_plots, only, args.merge, args.threads)
 
 
 if __name__ == "__main__":

@@ -25,9 +25,10 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--collect", action="store_true", help="only collect finished cases and plot")
     parser.add_argument("--quick", action="store_true", help="short end times (for tests)")
     parser.add_argument("--no-plots", action="store_true")
+    parser.add_argument("--merge", help="an earlier wall_study.csv: its rows of cases not in this study are kept")
     args = parser.parse_args(argv)
     return wall_study.wall_study(args.out, args.binary, args.methods, args.models, args.scenes, args.parallel,
-                                 args.timeout, args.collect, args.quick, not args.no_plots)
+                                 args.timeout, args.collect, args.quick, not args.no_plots, args.merge)
 
 
 if __name__ == "__main__":

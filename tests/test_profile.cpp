@@ -113,6 +113,11 @@ TEST_CASE("run.json has the profile and the memory of every run", "[profile]") {
   double total = 0.0;
   for (const auto& item : profile.at("phases").items()) total += item.value().at("seconds").get<double>();
   CHECK(total == Approx(profile.at("wall_seconds").get<double>()).epsilon(1e-9));
+  // CPU seconds of the session: > 0, and at most threads x wall seconds (a thread cannot use
+  // more CPU time than passes; + 0.02 s for the kernel's accounting granularity).
+  const double cpu = profile.at("cpu_seconds").get<double>();
+  CHECK(cpu > 0.0);
+  CHECK(cpu <= profile.at("threads").get<double>() * profile.at("wall_seconds").get<double>() + 0.02);
   CHECK(run.at("memory").at("peak_resident_bytes").get<std::size_t>() > 1000000);  // at least the program
   CHECK(run.at("memory").at("bytes_per_particle").get<double>() > 0.0);
 }

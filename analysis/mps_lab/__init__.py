@@ -7,7 +7,7 @@ the figures, the comparison report, one case runner and the studies.
     runner.py      finds the binary and runs one case (arguments, timeout, threads, one retry)
     figures.py     one function per figure of the comparison
     report.py      the comparison report (what `mps_lab compare` calls through analysis/compare.py)
-    studies/       sweep, stability_map, wall_study, performance (each with its `main`)
+    studies/       sweep, stability_map, wall_study, performance, cost, pressure_noise
 
 The scripts analysis/*.py only parse their arguments and call into this package.
 """

@@ -488,6 +488,7 @@ class RunSession {
   const Scene& scene_;
   const MethodInfo& info_;
   const Clock::time_point started_;
+  const double started_cpu_seconds_ = process_cpu_seconds();  // s, at the session's start
   const std::filesystem::path directory_;
   RunOutput output_;
   const bool output_prepared_;
@@ -717,6 +718,8 @@ void RunSession::write_final_summary(const RunResult& result) {
   summary_["profile"] =
       profile_json(timers_, seconds_since(started_), simulation_.steps() - first_step_, initial_.fluid);
   summary_["profile"]["threads"] = governor_.summary().at("max_threads");
+  // CPU seconds of this session (all threads, user + system): the cost load barely touches.
+  summary_["profile"]["cpu_seconds"] = process_cpu_seconds() - started_cpu_seconds_;
   summary_["threads_used"] = governor_.summary();
   // The process's peak resident memory (the whole program: at 1e6 particles the particle
   // data dominates; for small scenes the program's own ~10 MB does).

@@ -84,6 +84,11 @@ nlohmann::json profile_json(const PhaseTimers& timers, double wall_seconds, long
 // The one-screen table of `mps_lab run --profile`, from profile_json().
 std::string profile_table(const nlohmann::json& profile);
 
+// CPU time this process has used so far, s: user + system of every thread (getrusage
+// RUSAGE_SELF). For a one-thread run the difference over the run is its cost in CPU seconds,
+// which other processes sharing the cores barely change (unlike the wall time).
+double process_cpu_seconds();
+
 // Resident memory of this process now (bytes; /proc/self/statm) and its peak (ru_maxrss).
 std::size_t resident_memory_bytes();
 std::size_t peak_resident_memory_bytes();

@@ -5,4 +5,6 @@ is unfinished, and collects a CSV, tables and figures.
     stability_map  where each method breaks (time step x l0)
     wall_study     every method with every boundary model it supports
     performance    speed against the reference codes, bench, scaling to 1e6
+    cost           every method's cost per simulated second, side by side (tools/cost-five-methods.sh)
+    pressure_noise front, height and pressure-sensor noise of finished dam-break runs
 """

@@ -80,3 +80,39 @@ def write_csv(rows: list[dict], columns: list[str], path: str, nan_as_empty: boo
         for row in rows:
             writer.writerow({key: cell(row.get(key, "")) for key in columns})
     os.replace(temporary, path)
+
+
+def read_rows(path: str, numeric: set[str]) -> list[dict]:
+    """The rows of an earlier study CSV (sweep.csv, stability.csv, wall_study.csv); the `numeric`
+    columns as numbers (an integer's text as int, so it is written back the same; a missing
+    or empty cell, or "nan": NaN), the others as text."""
+    def number(text: str) -> float | int:
+        text = text.strip()
+        if not text:
+            return math.nan
+        try:
+            return int(text)
+        except ValueError:
+            return float(text)
+
+    with open(path, newline="") as handle:
+        rows = list(csv.DictReader(handle))
+    for row in rows:
+        for key in numeric:
+            row[key] = number(row.get(key) or "")
+    return rows
+
+
+def merge_rows(rows: list[dict], earlier: list[dict]) -> tuple[list[dict], int]:
+    """Each row without a finished run here replaced by the earlier row of the same case (same
+    "name"), when there is one; earlier rows of cases not in this grid are dropped. Returns the
+    rows and how many were taken from `earlier` (the --merge of sweep.py and stability_map.py)."""
+    by_name = {row["name"]: row for row in earlier}
+    merged, taken = [], 0
+    for row in rows:
+        if row["status"] not in FINISHED and row["name"] in by_name:
+            merged.append(by_name[row["name"]])
+            taken += 1
+        else:
+            merged.append(row)
+    return merged, taken

@@ -17,6 +17,9 @@ completed, diverged, solver_failed or failed is finished and is not run again, s
 interrupted map resumes (an "interrupted" or unfinished case runs again from t = 0). Cases run --parallel at
 a time, longest first, with OMP_NUM_THREADS = cores / parallel. SPEC's min_courant leaves
 out the fixed steps below C at a spacing (the dearest cases, far below every limit).
+--maps A,B runs only those maps' cases; --merge CSV takes every case without a finished run
+in <out> from an earlier stability.csv (e.g. docs/data/stability_map.csv), so new maps join
+the old ones in the CSVs and the figure without running the old ones again.
 
 <out>/stability.csv, one row per case:
   map, method, rule           the map, the method, the time-step rule: "courant" (fixed dt) or "cfl"
@@ -51,12 +54,16 @@ import sys
 
 from .. import methods, runner
 from . import sweep
-from .common import FINISHED, SpecError, case_folder, check_methods, check_spec_keys, load_json, status_of, write_csv
+from .common import (FINISHED, SpecError, case_folder, check_methods, check_spec_keys, load_json, merge_rows, read_rows,
+                     status_of, write_csv)
 
 DEFAULT_TIMEOUT = 3 * 3600.0  # s per case: far above any case of analysis/sweeps/stability.json; it stops a hung case
 COLUMNS = ["map", "method", "rule", "l0", "courant", "dt", "status", "stop_event", "stop_time", "first_event",
            "first_event_time", "steps", "simulated_time", "wall_seconds", "fluid_particles", "mean_solver_iterations",
            "max_courant", "front_rms", "front_rms_shifted", "front_best_shift", "message", "name"]
+NUMERIC_COLUMNS = {"l0", "courant", "dt", "stop_time", "first_event_time", "steps", "simulated_time", "wall_seconds",
+                   "fluid_particles", "mean_solver_iterations", "max_courant", "front_rms", "front_rms_shifted",
+                   "front_best_shift"}
 SUMMARY_COLUMNS = ["map", "method", "rule", "l0", "largest_stable_courant", "dt_at_limit", "front_rms_at_limit",
                    "front_rms_shifted_at_limit", "first_unstable_courant", "first_unstable_status",
                    "first_unstable_event", "completed_above_limit", "stable_band_from", "stable_band_to"]
@@ -359,7 +366,8 @@ def print_limits(rows: list[dict], limits: list[dict], out: str) -> None:
 
 
 def stability_map(spec_path: str, out: str, binary: str | None = None, parallel: int = 1,
-                  timeout: float = DEFAULT_TIMEOUT, collect_only: bool = False, plots: bool = True) -> int:
+                  timeout: float = DEFAULT_TIMEOUT, collect_only: bool = False, plots: bool = True,
+                  only_maps: list[str] | None = None, merge: str | None = None) -> int:
     """The whole map (module docstring); 0, or 2 with one line on stderr for a bad spec or no binary."""
     try:
         spec = load_spec(spec_path)
@@ -367,17 +375,24 @@ def stability_map(spec_path: str, out: str, binary: str | None = None, parallel:
         if found is not None:
             check_methods(list(dict.fromkeys(entry["method"] for entry in spec["maps"].values())),
                           methods.registered_methods(found), f"{spec_path}: maps.*.method")
-    except (SpecError, runner.BinaryNotFound, methods.MethodListError) as error:
+        unknown = [name for name in only_maps or [] if name not in spec["maps"]]
+        if unknown:
+            raise SpecError(f"--maps: {unknown[0]}: not a map of {spec_path} (it has: {', '.join(spec['maps'])})")
+        earlier = read_rows(merge, NUMERIC_COLUMNS) if merge else []
+    except (SpecError, runner.BinaryNotFound, methods.MethodListError, OSError, KeyError, ValueError) as error:
         print(f"stability_map.py: {error}", file=sys.stderr)
         return 2
     cases = cases_of(spec)
     os.makedirs(os.path.join(out, "cases"), exist_ok=True)
     parallel = max(1, parallel)
     if not collect_only:
-        ordered = sorted(cases, key=estimated_cost, reverse=True)
+        ordered = sorted([c for c in cases if not only_maps or c["map"] in only_maps], key=estimated_cost, reverse=True)
         sweep.run_cases(ordered, spec, out, found, parallel, runner.threads_per_case(parallel), timeout,
                         label="stability_map")
     rows = [row_of(case, out) for case in cases]
+    if merge:
+        rows, taken = merge_rows(rows, earlier)
+        print(f"stability_map: {taken} case(s) taken from {merge}")
     limits = largest_stable(rows)
     write_csv(rows, COLUMNS, os.path.join(out, "stability.csv"))
     write_csv(limits, SUMMARY_COLUMNS, os.path.join(out, "stability_summary.csv"))

@@ -3,6 +3,8 @@
     /usr/bin/python3 analysis/sweep.py SPEC.json --out runs/sweep            # run (resumes), collect, plot
     /usr/bin/python3 analysis/sweep.py SPEC.json --out runs/sweep --jobs-file jobs.txt   # only write the job list
     /usr/bin/python3 analysis/sweep.py SPEC.json --out runs/sweep --collect  # only collect and plot
+    /usr/bin/python3 analysis/sweep.py SPEC.json --out runs/sweep --methods wcsph,eisph \
+        --merge docs/data/sweep_dambreak.csv     # run two methods, keep the other rows of an earlier sweep
 
 The grid is method x particle spacing x time-step rule x solver tolerance (SPEC format in
 docs/speed-vs-accuracy.md; example: analysis/sweeps/dambreak.json). Every case is one
@@ -11,18 +13,24 @@ docs/speed-vs-accuracy.md; example: analysis/sweeps/dambreak.json). Every case i
 run.json: it runs again), so an interrupted sweep resumes where it stopped.
 Locally, cases run through the case runner (mps_lab/runner.py: a list of arguments, --timeout
 per case, one retry after a crash) in parallel up to --parallel (default: the number of
-cores), each with OMP_NUM_THREADS = cores / parallel. The spec's methods must be registered
+cores), each with OMP_NUM_THREADS = cores / parallel (or --threads). The spec's methods must be registered
 in the binary (`mps_lab methods`). The job list has one shell command per line, for GNU
 parallel or a Slurm array (`sed -n "${SLURM_ARRAY_TASK_ID}p" jobs.txt | bash`).
+--methods runs only those methods' cases (the others are still collected when their folders
+exist); --merge CSV takes each case that has no finished run in <out> from an earlier
+sweep.csv (its row as it was, self-convergence included: references stay within a method).
 
 Collected into <out>/sweep.csv, one row per case:
-  cost:  wall_seconds, steps, fluid_particles, particle_steps_per_second, mean_solver_iterations
+  cost:  wall_seconds, cpu_seconds (run.json's profile: the process's user + system CPU time,
+         all threads; for a one-thread case the cost that other processes on the cores barely
+         change), steps, fluid_particles, particle_steps_per_second, mean_solver_iterations
   error: front_rms (Z against Martin & Moyce, unshifted), front_rms_shifted, front_best_shift
          (completed cases only: a stopped run's front is cut short),
          self_convergence (RMS of Z(T) - Z_ref(T) on T in [0, T_max] every 0.05, against the
          finest completed case of the same method with the same time-step rule and the
          tightest tolerance)
-Figures: <out>/pareto.png (front error against wall time, log axes, Pareto front marked; with
+Figures: <out>/pareto.png (front error against one-thread cost: cpu_seconds, or wall_seconds
+for a row without it, log axes, Pareto front marked; with
 the best time shift, since every converged method leads the experiment's uncertain t = 0, and
 unshifted) and <out>/convergence.png (errors against l0, fitted self-convergence order per
 method and time-step rule).
@@ -37,7 +45,8 @@ import sys
 import numpy as np
 
 from .. import data, methods, runner
-from .common import FINISHED, SpecError, case_folder, check_methods, check_spec_keys, load_json, source_path, status_of, write_csv
+from .common import (FINISHED, SpecError, case_folder, check_methods, check_spec_keys, load_json, merge_rows, read_rows,
+                     source_path, status_of, write_csv)
 
 DEFAULT_TIMEOUT = 6 * 3600.0  # s per case: far above any case of analysis/sweeps/*.json; it stops a hung case
 
@@ -133,6 +142,7 @@ def measure(folder: str, status: str) -> tuple[data.Run | None, dict]:
     summary = run.summary
     row = {
         "wall_seconds": summary.get("wall_seconds", math.nan),
+        "cpu_seconds": summary.get("profile", {}).get("cpu_seconds", math.nan),
         "steps": summary.get("steps", 0),
         "fluid_particles": summary.get("particles", {}).get("fluid", 0),
         "particle_steps_per_second": summary.get("fluid_particle_steps_per_second", math.nan),
@@ -175,9 +185,21 @@ def collect(cases: list[dict], out: str) -> list[dict]:
     return rows
 
 
-COLUMNS = ["name", "method", "l0", "time_step_rule", "tolerance", "status", "wall_seconds", "steps",
+COLUMNS = ["name", "method", "l0", "time_step_rule", "tolerance", "status", "wall_seconds", "cpu_seconds", "steps",
            "fluid_particles", "particle_steps_per_second", "mean_solver_iterations", "front_rms",
            "front_rms_shifted", "front_best_shift", "self_convergence", "reference"]
+
+
+NUMERIC_COLUMNS = {"l0", "wall_seconds", "cpu_seconds", "steps", "fluid_particles", "particle_steps_per_second",
+                   "mean_solver_iterations", "front_rms", "front_rms_shifted", "front_best_shift",
+                   "self_convergence"}
+
+
+def cost_seconds(row: dict) -> float:
+    """The one-thread cost of a case, s: its CPU seconds, or its wall seconds when the row has
+    none (rows of sweeps before run.json recorded CPU time, measured on an idle machine)."""
+    cpu = row.get("cpu_seconds", math.nan)
+    return cpu if isinstance(cpu, (int, float)) and math.isfinite(cpu) else row["wall_seconds"]
 
 
 def pareto_front(points: list[tuple[float, float]]) -> list[int]:
@@ -224,7 +246,7 @@ def plot_pareto(rows: list[dict], path: str, styles: methods.MethodStyles) -> No
     fig, axes = plt.subplots(1, 2, figsize=(12.0, 4.8))
     for ax, key, title in [(axes[0], "front_rms_shifted", "front RMS in Z, best time shift in +-0.3"),
                            (axes[1], "front_rms", "front RMS in Z, unshifted")]:
-        points = [(r["wall_seconds"], r[key]) for r in done]
+        points = [(cost_seconds(r), r[key]) for r in done]
         for method in shown:
             colour = styles.colour(method)
             for m, rule in enumerate(rules[method]):
@@ -232,10 +254,11 @@ def plot_pareto(rows: list[dict], path: str, styles: methods.MethodStyles) -> No
                     mine = [r for r in done if r["method"] == method and r["time_step_rule"] == rule
                             and (r["tolerance"] == tightest[method]) == filled]
                     if mine:
-                        ax.scatter([r["wall_seconds"] for r in mine], [r[key] for r in mine], s=30,
+                        ax.scatter([cost_seconds(r) for r in mine], [r[key] for r in mine], s=30,
                                    marker=RULE_MARKERS[m % len(RULE_MARKERS)], color=colour if filled else "none",
                                    edgecolors=colour,
-                                   label=f"{method} / {rule}" + ("" if filled else " / looser tol."))
+                                   label=f"{method} / {rule}" + ("" if filled else " / " + "+".join(
+                                       sorted({r["tolerance"] for r in mine}))))
         front = pareto_front(points)
         ax.step([points[i][0] for i in front], [points[i][1] for i in front], "k--", where="post", lw=1.0,
                 label="Pareto front (all methods)")
@@ -243,13 +266,13 @@ def plot_pareto(rows: list[dict], path: str, styles: methods.MethodStyles) -> No
                    edgecolors="k")
         ax.set_xscale("log")
         ax.set_yscale("log")
-        ax.set_xlabel("wall time [s] (one thread)")
+        ax.set_xlabel("run time of one thread [s] (CPU s; idle wall s where no CPU time)")
         ax.set_ylabel("error against Martin & Moyce")
         ax.set_title(title)
     handles, labels = axes[0].get_legend_handles_labels()
     fig.legend(handles, labels, loc="lower center", ncol=4, fontsize=8, frameon=False)
-    fig.suptitle("Accuracy for cost (markers: time-step rule; open: looser solver tolerance)")
-    fig.tight_layout(rect=(0, 0.17, 1, 1))
+    fig.suptitle("Accuracy for cost (markers: time-step rule; open: the second axis' other value, e.g. a looser tolerance)")
+    fig.tight_layout(rect=(0, 0.04 * (len(labels) // 4 + 2), 1, 1))
     fig.savefig(path)
     plt.close(fig)
 
@@ -307,7 +330,8 @@ def write_jobs(cases: list[dict], spec: dict, out: str, binary: str, threads: in
 
 
 def sweep(spec_path: str, out: str, binary: str | None = None, parallel: int = 1, timeout: float = DEFAULT_TIMEOUT,
-          jobs_file: str | None = None, collect_only: bool = False, plots: bool = True) -> int:
+          jobs_file: str | None = None, collect_only: bool = False, plots: bool = True,
+          only_methods: list[str] | None = None, merge: str | None = None, threads: int | None = None) -> int:
     """The whole study (module docstring); 0, or 2 with one line on stderr for a bad spec or
     no binary."""
     try:
@@ -315,19 +339,27 @@ def sweep(spec_path: str, out: str, binary: str | None = None, parallel: int = 1
         found = None if collect_only else runner.find_binary(binary)
         if found is not None:
             check_methods(list(spec["methods"]), methods.registered_methods(found), f"{spec_path}: methods")
-    except (SpecError, runner.BinaryNotFound, methods.MethodListError) as error:
+        unknown = [m for m in only_methods or [] if m not in spec["methods"]]
+        if unknown:
+            raise SpecError(f"--methods: {unknown[0]}: not a method of {spec_path} (it has: {', '.join(spec['methods'])})")
+        earlier = read_rows(merge, NUMERIC_COLUMNS) if merge else []
+    except (SpecError, runner.BinaryNotFound, methods.MethodListError, OSError, KeyError, ValueError) as error:
         print(f"sweep.py: {error}", file=sys.stderr)
         return 2
     cases = cases_of(spec)
     os.makedirs(os.path.join(out, "cases"), exist_ok=True)
     parallel = max(1, parallel)
-    threads = runner.threads_per_case(parallel)
+    threads = max(1, threads) if threads else runner.threads_per_case(parallel)
     if jobs_file:
         write_jobs(cases, spec, os.path.abspath(out), found, threads, jobs_file)
         return 0
     if not collect_only:
-        run_cases(cases, spec, out, found, parallel, threads, timeout)
+        run_cases([c for c in cases if not only_methods or c["method"] in only_methods], spec, out, found, parallel,
+                  threads, timeout)
     rows = collect(cases, out)
+    if merge:
+        rows, taken = merge_rows(rows, earlier)
+        print(f"sweep: {taken} case(s) taken from {merge}")
     write_csv(rows, COLUMNS, os.path.join(out, "sweep.csv"), nan_as_empty=False)
     finished = sum(r["status"] in FINISHED for r in rows)
     print(f"sweep: {finished}/{len(rows)} cases finished -> {os.path.join(out, 'sweep.csv')}")

@@ -10,8 +10,9 @@ The methods, each method's default boundary model and the others it supports are
 the binary (`mps_lab methods --parameters`: "wall treatment NAME (boundary model, on by
 default)"), so a new method or boundary model joins the study without an edit here. A case is
 one `mps_lab run --method=M SCENE` into <out>/cases/<scene>__<method>__<model>/; a model other
-than the default is named with `--set methods.M.wall_treatments.MODEL={}`, which replaces the
-default boundary model and keeps the scene's other treatments (the MPS clamps, ...). Every
+than the default is named with `--set methods.M.wall_treatments.MODEL={}` and the default is
+switched off (`--set methods.M.wall_treatments.DEFAULT.enabled=false`, for a scene that names
+it); the scene's other treatments stay (the MPS clamps, ...). Every
 case runs with stability.on_divergence=continue: a wall penetration is counted, not a stop.
 Scenes: dambreak (scenes/dambreak.json, T = 2 s), hydrostatic (scenes/hydrostatic.json to
 T = 1 s with a frame every 0.05 s), dambreak_obstacle (scenes/dambreak_obstacle.json, T = 2 s);
@@ -48,6 +49,9 @@ with an error and no run.json (a combination not supported, a bad key) is record
     obstacle_noise_kpa                     the same noise at the obstacle_front sensor (obstacle scene)
   dambreak only (completed cases): front_rms, front_rms_shifted, front_best_shift
                                            surge front Z against Martin & Moyce (as analysis/compare.py)
+--merge CSV adds the rows of an earlier wall_study.csv (e.g. docs/data/wall_study.csv) for the
+cases not in this study (other methods), so new methods join the tables and the figure
+without running the old cases again.
 <out>/wall_study.md: a markdown table per scene. <out>/wall_study.png: front RMS, wall-sensor
 noise and the hydrostatic wall-pressure ratio per method and boundary model (hatched: the run
 penetrated a wall; a cross: no value, the case failed; a triangle: the run lost more than half
@@ -64,7 +68,7 @@ import sys
 import numpy as np
 
 from .. import SOURCE_ROOT, data, methods, runner
-from .common import FINISHED, case_folder, run_summary, status_of, write_csv
+from .common import FINISHED, case_folder, read_rows, run_summary, status_of, write_csv
 
 DEFAULT_TIMEOUT = 3600.0  # s per case
 SCENES = {  # name: scene file, end time, quick end time, extra overrides
@@ -92,6 +96,8 @@ COLUMNS = ["scene", "method", "boundary_model", "default", "status", "model_in_r
            "dpdy_ratio", "hydro_frames", "hydro_max_speed", "sensor_noise_kpa", "sensor_peak_kpa",
            "sensor_peak_time", "obstacle_noise_kpa", "front_rms", "front_rms_shifted", "front_best_shift",
            "message", "name"]
+TEXT_COLUMNS = {"scene", "method", "boundary_model", "default", "status", "model_in_run", "model_reported", "revision",
+                "message", "name"}
 
 
 # --- the cases -----------------------------------------------------------------------------
@@ -110,8 +116,9 @@ def cases_of(catalogue: dict[str, methods.MethodInfo], chosen: list[str], models
                 if model not in models and not (model == own and DEFAULT_SLOT in models):
                     continue
                 overrides = {**COMMON, **extra}
-                if model != own:
+                if model != own:  # the default switched off too: a scene may name it (wcsph's block does)
                     overrides[f"methods.{method}.wall_treatments.{model}"] = {}
+                    overrides[f"methods.{method}.wall_treatments.{own}.enabled"] = False
                 cases.append({"name": f"{scene}__{method}__{model}", "scene": scene, "scene_file": path,
                               "method": method, "boundary_model": model, "default": model == own,
                               "end_time": quick_end if quick else end_time, "overrides": overrides})
@@ -513,14 +520,17 @@ def choose(catalogue: dict[str, methods.MethodInfo], chosen: list[str] | None,
 
 def wall_study(out: str, binary: str | None = None, chosen: list[str] | None = None, models: list[str] | None = None,
                scenes: list[str] | None = None, parallel: int = 1, timeout: float = DEFAULT_TIMEOUT,
-               collect_only: bool = False, quick: bool = False, plots: bool = True) -> int:
+               collect_only: bool = False, quick: bool = False, plots: bool = True, merge: str | None = None) -> int:
     """The whole study (module docstring). The binary is needed also to collect: it names the
     methods and their boundary models. 0, or 2 with one line on stderr."""
     try:
         found = runner.find_binary(binary)
         catalogue = methods.method_catalogue(found)
         chosen, models = choose(catalogue, chosen, models)
-    except (runner.BinaryNotFound, methods.MethodListError, ValueError) as error:
+        earlier = read_rows(merge, set(COLUMNS) - TEXT_COLUMNS) if merge else []
+        for row in earlier:  # the CSV's "True"/"False" back to a boolean
+            row["default"] = row["default"] in ("True", "true", "1")
+    except (runner.BinaryNotFound, methods.MethodListError, ValueError, OSError, KeyError) as error:
         print(f"wall_study.py: {error}", file=sys.stderr)
         return 2
     cases = cases_of(catalogue, chosen, models, scenes or list(SCENES), quick)
@@ -533,6 +543,10 @@ def wall_study(out: str, binary: str | None = None, chosen: list[str] | None = N
         run_cases(cases, os.path.abspath(out), found, parallel, runner.threads_per_case(parallel), timeout)
     boundary_models = sorted({m for info in catalogue.values() for m in info.boundary_models})
     rows = [row_of(case, out, boundary_models) for case in cases]
+    if merge:  # the earlier rows first, in their order, then this study's; a case of both: this study's
+        names = {row["name"] for row in rows}
+        rows = [row for row in earlier if row["name"] not in names] + rows
+        rows.sort(key=lambda row: list(SCENES).index(row["scene"]) if row["scene"] in SCENES else len(SCENES))
     write_csv(rows, COLUMNS, os.path.join(out, "wall_study.csv"))
     with open(os.path.join(out, "wall_study.md"), "w") as handle:
         handle.write(markdown(rows, quick))
