@@ -12,7 +12,7 @@ using namespace mps_lab;
 using namespace mps_lab::testing;
 
 TEST_CASE("validation block: the Buchner scene names its records by sensor with resolved paths",
-          "[unit][input][validation]") {
+          "[unit][input][validation_block]") {
   const Scene scene = load("dambreak_buchner.json");
   CHECK(scene.validation.length_scale == 0.6);
   CHECK(scene.validation.impact_threshold == 0.1);
@@ -30,7 +30,8 @@ TEST_CASE("validation block: the Buchner scene names its records by sensor with 
   CHECK(load("dambreak.json").validation.length_scale == 0.0);
 }
 
-TEST_CASE("validation block: wrong keys and records are one-line errors naming the key", "[unit][input][validation]") {
+TEST_CASE("validation block: wrong keys and records are one-line errors naming the key",
+          "[unit][input][validation_block]") {
   const std::string scene = "dambreak_buchner.json";
   CHECK_THROWS_WITH(load(scene, {"validation.pressure_records.0.sensor=P9"}),
                     Catch::Contains("validation.pressure_records[0].sensor: got \"P9\", expected the name of a "
@@ -45,7 +46,7 @@ TEST_CASE("validation block: wrong keys and records are one-line errors naming t
   CHECK_THROWS_WITH(load(scene, {"validation.length_scale=0"}),
                     Catch::Contains("validation.length_scale: got 0, expected a number > 0"));
   CHECK_THROWS_WITH(load(scene, {"validation.quasi_static=[5.5,3]"}),
-                    Catch::Contains("validation.quasi_static: got [5.5,3], expected [T0, T1] with T1 > T0"));
+                    Catch::Contains("validation.quasi_static: got [5.5,3.0], expected [T0, T1] with T1 > T0"));
   CHECK_THROWS_WITH(load(scene, {"validation=null"}), Catch::Contains("validation: got null, expected an object"));
   // A record for a scene without sensors: nothing to compare it with.
   CHECK_THROWS_WITH(
@@ -60,7 +61,7 @@ TEST_CASE("validation block: wrong keys and records are one-line errors naming t
 }
 
 TEST_CASE("validation block: a record file that is not two columns of numbers is an error naming its line",
-          "[unit][input][validation]") {
+          "[unit][input][validation_block]") {
   const auto folder = fresh_directory("validation_block");
   const auto write = [&](const std::string& name, const std::string& text) {
     std::ofstream(folder / name) << text;

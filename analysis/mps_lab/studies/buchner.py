@@ -78,20 +78,24 @@ def formatted(value, digits: int = 3) -> str:
 
 
 def markdown(rows: list[dict]) -> str:
-    """The table of docs/validation.md: P1 and P2 measures, one line per run."""
-    header = ("| l0 | method | status | wall s | P1 impact T (error) | P1 peak step / row | P1 quasi-static level | "
+    """The table of docs/validation.md: P1 and P2 measures, one line per run (the CSV also has
+    wall_seconds: measured on a shared machine, not a speed figure)."""
+    header = ("| l0 | method | status | steps | P1 impact T (error) | P1 peak step / row | P1 quasi-static level | "
               "P1 quasi-static RMS | P2 impact T (error) | P2 peak row | P2 quasi-static RMS |")
     lines = [header, "|" + "---|" * 11]
     for r in rows:
         def cell(sensor, key):
             return formatted(r.get(f"{sensor}_{key}", ""))
 
-        impact = {s: cell(s, "impact_time") + (f" ({float(r[f'{s}_impact_time_error']):+.2f})"
-                                               if f"{s}_impact_time_error" in r else "") for s in PROBES}
+        def impact(sensor):
+            error = r.get(f"{sensor}_impact_time_error", math.nan)
+            text = cell(sensor, "impact_time") or "never"
+            return text + (f" ({error:+.2f})" if math.isfinite(error) else "")
+
         peak = (cell("P1", "peak_step") + " / " if "P1_peak_step" in r else "") + cell("P1", "peak_row")
-        lines.append(f"| {r['label']} | {r['method']} | {r['status']} | {formatted(r.get('wall_seconds', ''), 0)} | "
-                     f"{impact['P1']} | {peak} | {cell('P1', 'quasi_static_level')} | {cell('P1', 'quasi_static_rms')} | "
-                     f"{impact['P2']} | {cell('P2', 'peak_row')} | {cell('P2', 'quasi_static_rms')} |")
+        lines.append(f"| {r['label']} | {r['method']} | {r['status']} | {r.get('steps', '')} | "
+                     f"{impact('P1')} | {peak} | {cell('P1', 'quasi_static_level')} | {cell('P1', 'quasi_static_rms')} | "
+                     f"{impact('P2')} | {cell('P2', 'peak_row')} | {cell('P2', 'quasi_static_rms')} |")
     return "\n".join(lines) + "\n"
 
 
