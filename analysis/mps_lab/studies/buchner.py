@@ -5,12 +5,14 @@ figure of each method's P1 history over the experiment (docs/validation.md, "Wal
 Buchner 2002").
 
 Each case differs from the scene by --set only: the spacing l0 = H/n, the time step
-0.02 s/m x l0 (mps, isph: Courant number 0.13 at the impact's 6.5 m/s), the upper bound of
-the CFL step of dfsph and eisph 0.08 s/m x l0 (docs/methods/eisph.md: scale it with l0), and
+0.02 s/m x l0 (the fixed-step methods: Courant number 0.13 at the impact's 6.5 m/s), every
+`max_time_step` the scene's method blocks give scaled with l0 (the scene's are 0.08 s/m x l0;
+docs/methods/eisph.md: scale it with l0), and
 the probes' y = l0/2 + height above the bed (the bed's surface is l0/2 above y = 0). A case
 folder is OUT/H<n>/<method>; --collect reads the folders that exist and runs nothing."""
 from __future__ import annotations
 
+import json
 import math
 import os
 
@@ -29,13 +31,25 @@ COLUMNS = (["label", "l0", "method", "status", "steps", "wall_seconds"]
            + [f"{sensor}_{measure}" for sensor in PROBES for measure in MEASURES])
 
 
+def scaled_step_bounds(scene: str, l0: float) -> list[str]:
+    """--set of every method block of the scene that gives a `max_time_step`, scaled with the
+    spacing (the scene's value is 0.08 s/m x its l0); no method is named here."""
+    with open(scene) as handle:
+        document = json.load(handle)
+    ratio = l0 / float(document["particle_spacing"])
+    arguments = []
+    for name, block in sorted(document.get("methods", {}).items()):
+        if isinstance(block, dict) and "max_time_step" in block:
+            arguments += ["--set", f"methods.{name}.max_time_step={block['max_time_step'] * ratio:.12g}"]
+    return arguments
+
+
 def case_arguments(scene: str, method: str, divisions: int, folder: str) -> list[str]:
     """The mps_lab arguments of one case (see the module's docstring)."""
     l0 = HEIGHT / divisions
     arguments = ["run", scene, "--method", method, "--out", folder, "--quiet", "--threads", "1",
-                 "--set", f"particle_spacing={l0:.12g}", "--set", f"time.time_step={0.02 * l0:.12g}",
-                 "--set", f"methods.dfsph.max_time_step={0.08 * l0:.12g}",
-                 "--set", f"methods.eisph.max_time_step={0.08 * l0:.12g}"]
+                 "--set", f"particle_spacing={l0:.12g}", "--set", f"time.time_step={0.02 * l0:.12g}"]
+    arguments += scaled_step_bounds(scene, l0)
     for index, height in enumerate(PROBES.values()):
         arguments += ["--set", f"diagnostics.pressure_sensors.{index}.position=[{RIGHT_WALL_X},{l0 / 2 + height:.12g}]"]
     return arguments
