@@ -182,6 +182,34 @@ def plot_sensor(runs: list[data.Run], path: str, styles: MethodStyles) -> bool:
     return True
 
 
+def plot_pressure_validation(runs: list[data.Run], path: str, styles: MethodStyles) -> bool:
+    """Each method's sensor history (series rows, p/(rho g H) against T = t sqrt(g/H)) over the
+    experimental record named by the scene's validation block, one panel per record; False if
+    the runs have none (analysis/mps_lab/pressure.py)."""
+    from . import pressure
+    validation = pressure.run_validation(runs[0])
+    if validation is None or not validation.records:
+        return False
+    sensors = list(validation.records)
+    fig, axes = plt.subplots(len(sensors), 1, figsize=(8.0, 3.2 * len(sensors)), sharex=True, squeeze=False)
+    for axis, sensor in zip(axes[:, 0], sensors):
+        for run, colour in zip(runs, run_colours(runs, styles)):
+            if "pressure_" + sensor in run.series:
+                t, mean, _ = pressure.run_curves(run, sensor, validation)
+                axis.plot(t, mean, color=colour, lw=0.7, label=run.method)
+        exp_t, exp_p = pressure.read_record(validation.records[sensor])
+        axis.plot(exp_t, exp_p, "k.-", lw=1.2, ms=3, label="experiment")
+        axis.axvspan(*validation.quasi_static, color="0.9", zorder=0)
+        axis.set_ylabel(f"{sensor}: " + r"$p/\rho g H$")
+        axis.legend(fontsize=7, ncol=3)
+    axes[-1, 0].set_xlabel(r"$T = t\sqrt{g/H}$" + f" (H = {validation.length_scale:g} m)")
+    axes[0, 0].set_title("Wall pressure against the experiment (grey: quasi-static window)")
+    fig.tight_layout()
+    fig.savefig(path)
+    plt.close(fig)
+    return True
+
+
 def plot_energy(runs: list[data.Run], path: str, styles: MethodStyles) -> None:
     """Kinetic energy and the common density error against time."""
     fig, (top, bottom) = plt.subplots(2, 1, figsize=(7.0, 6.0), sharex=True)

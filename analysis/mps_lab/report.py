@@ -9,6 +9,7 @@ same definitions. --runs takes run folders from anywhere instead of the sub-fold
 into RUNS_FOLDER:
 
     front.png  height.png  snapshots.png  wall_pressure.png  energy.png
+    pressure_validation.png (a scene whose `validation` block names experimental pressure records)
     animation.mp4 (ffmpeg installed) or animation.gif    report.md, report.html (self-contained)
 
 Each method keeps its colour from the sorted list of the binary's methods (--binary, else
@@ -23,7 +24,7 @@ import os
 import re
 import sys
 
-from . import data, figures, methods
+from . import data, figures, methods, pressure
 
 DEFAULT_TIMES = [0.1, 0.2, 0.3, 0.5, 1.0, 2.0]
 
@@ -86,6 +87,7 @@ CAPTIONS = {
     "height": "Residual height at the back wall against Martin & Moyce (1952)",
     "snapshots": "Particles coloured by pressure, methods by rows",
     "wall_pressure": "Pressure at the wall sensor",
+    "pressure_validation": "Wall pressure against the experiment",
     "energy": "Kinetic energy and density error",
     "animation": "Animation, all methods side by side",
 }
@@ -96,6 +98,37 @@ DEFINITIONS = (
     "column between the wall surfaces. The best shift is the T shift in [-0.3, 0.3] with the least RMS "
     "(positive: the simulation is ahead). Density error: mean |rho/rho_L - 1| over fluid particles with "
     "full support, one kernel for every method, averaged over the run. Definitions: docs/validation.md.")
+
+
+PRESSURE_DEFINITIONS = (
+    "Wall pressure (scenes with a `validation` block): p* = p/(rho g H) against T = t sqrt(g/H). Impact: the "
+    "first T at which p* reaches the block's impact_threshold, the same rule for the experiment; peak: the "
+    "largest p* from the impact to the end of the quasi-static window, per step (the sensor's _max column) and "
+    "of the row means; quasi-static: over the block's window, the mean p* and the RMS of run - experiment at "
+    "the experiment's points. Definitions: analysis/mps_lab/pressure.py, docs/validation.md.")
+
+
+def pressure_table(runs: list[data.Run]) -> str:
+    """Impact time, peaks and quasi-static error of each method at each sensor with a record;
+    "" when the runs have no validation block."""
+    lines = []
+    for run in runs:
+        validation = pressure.run_validation(run)
+        if validation is None:
+            continue
+        for sensor in validation.records:
+            if "pressure_" + sensor not in run.series:
+                continue
+            m = pressure.sensor_measures(run, sensor, validation)
+            lines.append(f"| {run.method} | {sensor} | {m['impact_time']:.3f} ({m['exp_impact_time']:.3f}) | "
+                         f"{m['peak_step']:.3f} / {m['peak_row']:.3f} ({m['exp_peak']:.3f}) | "
+                         f"{m['quasi_static_level']:.3f} ({m['exp_quasi_static_level']:.3f}) | "
+                         f"{m['quasi_static_rms']:.3f} |")
+    if not lines:
+        return ""
+    header = ("| method | sensor | impact T (experiment) | peak p* step / row (experiment) | "
+              "quasi-static p* (experiment) | quasi-static RMS |")
+    return "\n".join([header, "|" + "---|" * 6, *lines])
 
 
 def report_title(runs: list[data.Run]) -> tuple[str, str]:
@@ -110,6 +143,9 @@ def report_title(runs: list[data.Run]) -> tuple[str, str]:
 def write_report(root: str, runs: list[data.Run], rows: list[dict[str, str]], figures_written: dict[str, str]) -> str:
     title, subtitle = report_title(runs)
     lines = [f"# {title}", "", subtitle, "", "## Summary", "", markdown_table(rows), "", DEFINITIONS, ""]
+    table = pressure_table(runs)
+    if table:
+        lines += ["## Wall pressure against the experiment", "", table, "", PRESSURE_DEFINITIONS, ""]
     for key, caption in CAPTIONS.items():
         if key in figures_written:
             lines += [f"## {caption}", "", f"![{caption}]({os.path.basename(figures_written[key])})", ""]
@@ -137,7 +173,11 @@ def embedded_figure(path: str, caption: str) -> str:
 
 def html_table(rows: list[dict[str, str]]) -> str:
     """The summary table of report.md as HTML (same columns, same formatting)."""
-    lines = markdown_table(rows).splitlines()
+    return markdown_to_html_table(markdown_table(rows))
+
+
+def markdown_to_html_table(table: str) -> str:
+    lines = table.splitlines()
     cells = [[c.strip() for c in line.strip("|").split("|")] for line in lines if not line.startswith("|---")]
     head = "".join(f"<th>{html.escape(c)}</th>" for c in cells[0])
     body = "".join("<tr>" + "".join(f"<td>{html.escape(c)}</td>" for c in row) + "</tr>" for row in cells[1:])
@@ -158,6 +198,10 @@ def write_html_report(root: str, runs: list[data.Run], rows: list[dict[str, str]
     parts = [f"<!DOCTYPE html><html lang=\"en\"><head><meta charset=\"utf-8\"><title>{html.escape(title)}</title>",
              f"<style>{HTML_STYLE}</style></head><body>", f"<h1>{html.escape(title)}</h1>", f"<p>{code(subtitle)}</p>",
              "<h2>Summary</h2>", html_table(rows), f"<p>{html.escape(DEFINITIONS)}</p>"]
+    table = pressure_table(runs)
+    if table:
+        parts += ["<h2>Wall pressure against the experiment</h2>", markdown_to_html_table(table),
+                  f"<p>{code(PRESSURE_DEFINITIONS)}</p>"]
     for key, caption in CAPTIONS.items():
         if key in figures_written:
             parts += [f"<h2>{html.escape(caption)}</h2>", embedded_figure(figures_written[key], caption)]
@@ -184,6 +228,9 @@ def draw_figures(root: str, runs: list[data.Run], times: list[float], animation:
     sensor_path = os.path.join(root, "wall_pressure.png")
     if figures.plot_sensor(runs, sensor_path, styles):
         written["wall_pressure"] = sensor_path
+    validation_path = os.path.join(root, "pressure_validation.png")
+    if figures.plot_pressure_validation(runs, validation_path, styles):
+        written["pressure_validation"] = validation_path
     if animation:
         written["animation"] = figures.make_animation(runs, os.path.join(root, "animation"))
     return written

@@ -156,6 +156,28 @@ std::vector<ParameterSpec> pressure_sensor_keys() {
   };
 }
 
+std::vector<ParameterSpec> validation_keys() {
+  return {
+      number_parameter("length_scale", 0.0, "m",
+                       "H of the experiment's variables: time T = t sqrt(g/H), pressure p / (rho g H)")
+          .above(0.0)
+          .mandatory(),
+      number_parameter("impact_threshold", 0.1, "rho g H",
+                       "the impact time is the first time a sensor's pressure reaches this")
+          .above(0.0),
+      vector2_parameter("quasi_static", Vec2(3.0, 5.5), "T",
+                        "[T0, T1]: the window of the quasi-static RMS error of p / (rho g H)"),
+  };
+}
+
+std::vector<ParameterSpec> pressure_record_keys() {
+  return {
+      string_parameter("sensor", "", "name of the diagnostics.pressure_sensors entry the record belongs to")
+          .mandatory(),
+      string_parameter("file", "", "CSV of T = t sqrt(g/H) and p / (rho g H), relative to the scene file").mandatory(),
+  };
+}
+
 std::string join(const std::vector<std::string>& items) {
   std::string text;
   for (const auto& item : items) text += (text.empty() ? "" : ", ") + item;
@@ -316,7 +338,9 @@ std::vector<SceneBlockSpec> shared_scene_keys() {
           {"output", output_keys()},
           {"diagnostics", diagnostics_keys()},
           {"diagnostics.pressure_sensors[]", pressure_sensor_keys()},
-          {"stability", stability_keys()}};
+          {"stability", stability_keys()},
+          {"validation", validation_keys()},
+          {"validation.pressure_records[]", pressure_record_keys()}};
 }
 
 bool TankWalls::any_moving() const {
@@ -414,8 +438,8 @@ namespace {
 // The top-level keys; every block that is given must be an object (null is not "the
 // defaults"; fluid_blocks is an array, read below).
 void read_top_level(const nlohmann::json& document, const std::string& source, Scene& scene) {
-  const std::set<std::string> blocks = {"domain", "walls",       "fluid_blocks", "physics", "time",
-                                        "output", "diagnostics", "stability",    "methods"};
+  const std::set<std::string> blocks = {"domain", "walls",       "fluid_blocks", "physics",    "time",
+                                        "output", "diagnostics", "stability",    "validation", "methods"};
   const auto top = resolve_parameters(top_level_keys(), document, source, "", blocks);
   // A block that is given must be an object: null is not "the defaults" (fluid_blocks: below).
   for (const auto& name : blocks) {
@@ -715,6 +739,69 @@ void check_pressure_sensors(const std::string& source, const Scene& scene) {
   }
 }
 
+// A pressure record: a header line and at least two rows of two finite numbers (T,
+// p / (rho g H)), '#' lines skipped; a missing file or a bad row is an error naming the key.
+void check_pressure_record_file(const std::string& file, const std::string& source, const std::string& key) {
+  std::ifstream in(file);
+  if (!in) throw_input_error(source, key, "cannot read " + describe_json(file) + ", expected a CSV of T,p");
+  std::string line;
+  bool header = false;
+  int rows = 0;
+  for (int number = 1; std::getline(in, line); ++number) {
+    if (line.empty() || line[0] == '#') continue;
+    if (!header) {
+      header = true;
+      continue;
+    }
+    std::istringstream fields(line);
+    double t = 0.0;
+    double p = 0.0;
+    char comma = 0;
+    if (!(fields >> t >> comma >> p) || comma != ',' || !std::isfinite(t) || !std::isfinite(p)) {
+      throw_input_error(
+          source, key,
+          file + " line " + std::to_string(number) + ": got " + describe_json(line) + ", expected two numbers T,p");
+    }
+    ++rows;
+  }
+  if (rows < 2) throw_input_error(source, key, file + ": expected a header line and at least two rows T,p");
+}
+
+// validation: the experiment the sensors compare with; each record names a sensor of
+// diagnostics.pressure_sensors and a readable file (relative to the scene file).
+void read_validation(const nlohmann::json& document, const std::string& source, Scene& scene) {
+  if (!document.contains("validation")) return;
+  const auto& block = document.at("validation");
+  const auto values = resolve_parameters(validation_keys(), block, source, "validation", {"pressure_records"});
+  scene.validation.length_scale = values.number("length_scale");
+  scene.validation.impact_threshold = values.number("impact_threshold");
+  scene.validation.quasi_static = values.vector2("quasi_static");
+  if (!(scene.validation.quasi_static.y() > scene.validation.quasi_static.x())) {
+    throw_input_error(source, "validation.quasi_static",
+                      "got " + describe_point(scene.validation.quasi_static) + ", expected [T0, T1] with T1 > T0");
+  }
+  if (!block.contains("pressure_records")) return;
+  const auto& records = block.at("pressure_records");
+  if (!records.is_array()) {
+    throw_input_error(source, "validation.pressure_records", "got " + describe_json(records) + ", expected an array");
+  }
+  for (std::size_t k = 0; k < records.size(); ++k) {
+    const std::string path = "validation.pressure_records[" + std::to_string(k) + "]";
+    const auto record = resolve_parameters(pressure_record_keys(), records[k], source, path);
+    const std::string& sensor = record.string("sensor");
+    std::vector<std::string> names;
+    for (const auto& s : scene.diagnostics.pressure_sensors) names.push_back(s.name);
+    if (std::find(names.begin(), names.end(), sensor) == names.end()) {
+      throw_input_error(source, path + ".sensor",
+                        "got " + describe_json(sensor) + ", expected the name of a diagnostics.pressure_sensors entry" +
+                            (names.empty() ? std::string(" (the scene has none)") : " (" + join(names) + ")"));
+    }
+    const std::filesystem::path file = std::filesystem::path(source).parent_path() / record.string("file");
+    check_pressure_record_file(file.string(), source, path + ".file");
+    scene.validation.pressure_records.push_back({sensor, std::filesystem::absolute(file).lexically_normal().string()});
+  }
+}
+
 // The time step against the end time and the output intervals; an output folder.
 void check_time_and_output(const std::string& source, const Scene& scene) {
   const double dt = scene.time.time_step;
@@ -809,7 +896,8 @@ Scene parse_scene(nlohmann::json document, const std::string& source, const Meth
   check_fluid_blocks(source, scene);
   check_obstacles(source, scene);
   check_pressure_sensors(source, scene);
-  check_lattice(scene);  // the domain a whole number of spacings, a lattice point in every block
+  read_validation(document, source, scene);  // names the sensors: after them
+  check_lattice(scene);                      // the domain a whole number of spacings, a lattice point in every block
   check_time_and_output(source, scene);
   read_method_configs(checked_method_blocks(document, source, methods), source, methods, walls, scene);
   if (methods.find(scene.method) == nullptr) {

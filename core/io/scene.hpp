@@ -83,6 +83,22 @@ struct DiagnosticsControl {
   std::vector<PressureSensor> pressure_sensors;
 };
 
+// An experimental wall-pressure record to compare a sensor with (scene key validation,
+// docs/scene-format.md; read by analysis/mps_lab/pressure.py, not by the simulation).
+struct PressureRecord {
+  std::string sensor;  // the name of a diagnostics.pressure_sensors entry
+  std::string file;    // CSV of T = t sqrt(g/H), p / (rho g H); resolved against the scene file's folder
+};
+
+// The "validation" block: which experiment the scene's sensors compare with, and the
+// definitions of the comparison (docs/validation.md, "Wall pressure: Buchner 2002").
+struct ValidationControl {
+  double length_scale = 0.0;           // m, H of T = t sqrt(g/H) and p / (rho g H); 0: no block
+  double impact_threshold = 0.1;       // p / (rho g H): the impact is the first crossing of this
+  Vec2 quasi_static = Vec2(3.0, 5.5);  // [T0, T1]: the window of the quasi-static RMS error
+  std::vector<PressureRecord> pressure_records;
+};
+
 // A method's resolved block: its parameters and its wall treatments.
 struct MethodConfig {
   ParameterValues parameters;
@@ -101,6 +117,7 @@ struct Scene {
   OutputControl output;
   DiagnosticsControl diagnostics;
   StabilitySettings stability;                  // the "stability" block (core/run/stability.hpp)
+  ValidationControl validation;                 // the "validation" block (experiments to compare with)
   std::string method;                           // the scene's default method
   std::map<std::string, MethodConfig> methods;  // one entry per registered method
   nlohmann::json document;                      // the JSON after --set overrides

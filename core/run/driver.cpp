@@ -369,6 +369,19 @@ std::filesystem::path run_directory(const RunOptions& options, const RunSetup& s
                                           : std::filesystem::path(options.output_directory);
 }
 
+// run.json "validation": the scene's experiment with the records' resolved paths, for the
+// analysis (analysis/mps_lab/pressure.py reads it; the scene's own paths are relative to it).
+nlohmann::json validation_summary(const ValidationControl& validation) {
+  nlohmann::json records = nlohmann::json::array();
+  for (const auto& record : validation.pressure_records) {
+    records.push_back({{"sensor", record.sensor}, {"file", record.file}});
+  }
+  return {{"length_scale", validation.length_scale},
+          {"impact_threshold", validation.impact_threshold},
+          {"quasi_static", {validation.quasi_static.x(), validation.quasi_static.y()}},
+          {"pressure_records", records}};
+}
+
 // The run.json entries of a run's invariants: scene, parameters, wall treatments, shared
 // physics, the initial particles and column.
 nlohmann::json new_run_summary(const RunOptions& options, const RunSetup& setup, const FlowMeasures& initial,
@@ -402,6 +415,7 @@ nlohmann::json new_run_summary(const RunOptions& options, const RunSetup& setup,
                        {"height_probe_width", scene.diagnostics.height_probe_width}};
   summary["particles"] = {{"fluid", initial.fluid}, {"wall", initial.wall}, {"total", particles}};
   summary["column"] = {{"width", initial.front}, {"height", initial.height}};
+  if (scene.validation.length_scale > 0.0) summary["validation"] = validation_summary(scene.validation);
   summary["threads"] = omp_get_max_threads();
   // Spec §3 note: the original code had static arrays of 10000 particles; this core has no
   // limit, but says so when a scene goes beyond what the validation runs covered.

@@ -34,6 +34,8 @@ for a row without it, log axes, Pareto front marked; with
 the best time shift, since every converged method leads the experiment's uncertain t = 0, and
 unshifted) and <out>/convergence.png (errors against l0, fitted self-convergence order per
 method and time-step rule).
+A scene whose `validation` block names pressure records adds the pressure-error columns and
+<out>/pressure_pareto.png (analysis/mps_lab/studies/sweep_pressure.py).
 """
 from __future__ import annotations
 
@@ -45,6 +47,7 @@ import sys
 import numpy as np
 
 from .. import data, methods, runner
+from . import sweep_pressure
 from .common import (FINISHED, SpecError, case_folder, check_methods, check_spec_keys, load_json, merge_rows, read_rows,
                      source_path, status_of, write_csv)
 
@@ -151,6 +154,7 @@ def measure(folder: str, status: str) -> tuple[data.Run | None, dict]:
     }
     if status == "completed" and len(run.series.get("time", [])) > 1:
         row.update(data.front_errors(run))
+        row.update(sweep_pressure.measure(run))  # a scene with a pressure record (studies/sweep_pressure.py)
     return run, row
 
 
@@ -318,6 +322,7 @@ def plot(rows: list[dict], out: str, styles: methods.MethodStyles) -> dict:
     from .. import figures  # noqa: F401  (sets the shared style)
 
     plot_pareto(rows, os.path.join(out, "pareto.png"), styles)
+    sweep_pressure.plot(rows, os.path.join(out, "pressure_pareto.png"), styles, pareto_front)
     return plot_convergence(rows, os.path.join(out, "convergence.png"), styles)
 
 
@@ -360,7 +365,7 @@ def sweep(spec_path: str, out: str, binary: str | None = None, parallel: int = 1
     if merge:
         rows, taken = merge_rows(rows, earlier)
         print(f"sweep: {taken} case(s) taken from {merge}")
-    write_csv(rows, COLUMNS, os.path.join(out, "sweep.csv"), nan_as_empty=False)
+    write_csv(rows, COLUMNS + sweep_pressure.columns(rows), os.path.join(out, "sweep.csv"), nan_as_empty=False)
     finished = sum(r["status"] in FINISHED for r in rows)
     print(f"sweep: {finished}/{len(rows)} cases finished -> {os.path.join(out, 'sweep.csv')}")
     if plots and any(r["status"] == "completed" for r in rows):
