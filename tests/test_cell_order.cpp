@@ -10,6 +10,7 @@
 #include <catch2/catch.hpp>
 
 #include "core/base/error.hpp"
+#include "core/io/checkpoint.hpp"
 #include "core/search/cell_order.hpp"
 #include "core/search/neighbour_search.hpp"
 #include "support.hpp"
@@ -239,5 +240,41 @@ TEST_CASE("run.sort_period - default and bad values are one-line errors naming t
     FAIL("accepted an unknown key");
   } catch (const InputError& error) {
     CHECK(std::string(error.what()).find("run.sort_every") != std::string::npos);
+  }
+}
+
+TEST_CASE("the particles' order is in the checkpoint - ids that are no permutation are an error", "[cell_order]") {
+  ParticleSet saved = recognisable_set(5);
+  permute_particles(saved, ParticleOrder::from_old_indices({3, 0, 4, 1, 2}));
+  CheckpointWriter writer;
+  writer.begin_section("particles");
+  write_particles(writer, saved);
+  writer.end_section();
+  {
+    CheckpointReader reader(writer.file_content("rev"), "run/checkpoint.bin", "rev");
+    ParticleSet restored = recognisable_set(5);  // as a fresh Simulation builds it: index = id
+    reader.begin_section("particles");
+    read_particles(reader, restored);
+    reader.end_section();
+    CHECK(restored.id == std::vector<std::uint32_t>{3, 0, 4, 1, 2});
+    CHECK(restored.position == saved.position);
+    CHECK(restored.field("marker") == saved.field("marker"));
+  }
+  saved.id[2] = 3;  // particle 3 twice, particle 4 missing
+  CheckpointWriter broken;
+  broken.begin_section("particles");
+  write_particles(broken, saved);
+  broken.end_section();
+  CheckpointReader reader(broken.file_content("rev"), "run/checkpoint.bin", "rev");
+  ParticleSet restored = recognisable_set(5);
+  reader.begin_section("particles");
+  try {
+    read_particles(reader, restored);
+    FAIL("accepted");
+  } catch (const InputError& error) {
+    const std::string message = error.what();
+    CHECK_THAT(message, Catch::StartsWith("run/checkpoint.bin") &&
+                            Catch::Contains("particle ids that are not a permutation of 0..4"));
+    CHECK(message.find('\n') == std::string::npos);
   }
 }

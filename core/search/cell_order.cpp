@@ -58,8 +58,7 @@ OrderGrid order_grid(const std::vector<Vec2>& positions, const std::vector<Parti
 
 }  // namespace
 
-ParticleOrder cell_order(const std::vector<Vec2>& positions, const std::vector<ParticleType>& types,
-                         double cell_size) {
+ParticleOrder cell_order(const std::vector<Vec2>& positions, const std::vector<ParticleType>& types, double cell_size) {
   if (!(cell_size > 0.0)) throw std::invalid_argument("cell order: the cell size must be > 0");
   if (types.size() != positions.size()) throw std::invalid_argument("cell order: positions and types differ in size");
   const std::size_t n = positions.size();
@@ -81,8 +80,8 @@ ParticleOrder cell_order(const std::vector<Vec2>& positions, const std::vector<P
 void permute_neighbour_list(NeighbourList& list, const ParticleOrder& order) {
   if (list.offsets.empty()) return;  // no search yet
   if (list.particle_count() != order.size()) {
-    throw std::logic_error("neighbour list of " + std::to_string(list.particle_count()) +
-                           " particles reordered for " + std::to_string(order.size()));
+    throw std::logic_error("neighbour list of " + std::to_string(list.particle_count()) + " particles reordered for " +
+                           std::to_string(order.size()));
   }
   NeighbourList moved;
   moved.radius = list.radius;

@@ -21,8 +21,7 @@ namespace mps_lab {
 // particles keep their present order; ghosts after every other particle, in their present order.
 // Deterministic and independent of the thread count. Throws std::runtime_error on a non-finite
 // position of a non-ghost particle (as the neighbour search does).
-ParticleOrder cell_order(const std::vector<Vec2>& positions, const std::vector<ParticleType>& types,
-                         double cell_size);
+ParticleOrder cell_order(const std::vector<Vec2>& positions, const std::vector<ParticleType>& types, double cell_size);
 
 // A neighbour list kept across a reordering: row k becomes the old row old_index[k], its
 // entries renumbered, in the same order (every sum over it then adds the same terms in the same
