@@ -11,7 +11,7 @@
 //     out of the noise: measured +-0.30 l0 over 5 s); no particle escapes or crosses a wall;
 //   - the time-averaged pressure is hydrostatic: p = rho g (H - y), H the water surface
 //     (top particle centres + l0/2), within 10% at depths >= 0.1 m and 15% at 0.05 m
-//     (measured 0.7-5%; the margin covers the noise of a mean over 20 frames of a noisy field).
+//     (measured 0.7-5%; the margin covers the noise of a mean over 401 samples of a noisy field).
 #include <catch2/catch.hpp>
 
 #include "core/io/geometry.hpp"
@@ -45,7 +45,14 @@ TEST_CASE("MPS hydrostatics: still water stays in place and its mean pressure is
       max_sideways = std::max(max_sideways, std::fabs(shift.x()));
       if (simulation.steps() == 4000) energy_at_2s = kinetic();
       if (simulation.steps() >= 2000) max_energy_late = std::max(max_energy_late, kinetic());
-      if (simulation.steps() >= 2000) {  // average over t in [1, 3] s
+    }
+    // The mean pressure over t in [1, 3] s, sampled every 10 steps (401 samples). Sampled every
+    // 100 steps (21 samples), the mean of this noisy field moved by up to 15 % between runs that
+    // differ only in rounding (gravity one ulp stronger: 1.04-1.15 by depth; particles reordered
+    // by cell every 50 steps: 0.89-0.95); every 10 steps those runs agree within 3.3 %
+    // (0.975-1.033, measured 2026-11-24).
+    if (simulation.steps() % 10 == 0) {
+      if (simulation.steps() >= 2000) {
         for (std::size_t i = 0; i < p.size(); ++i) {
           if (p.type[i] != ParticleType::Fluid) continue;
           const double d = top - p.position[i].y();  // depth below the top particle centres

@@ -66,8 +66,10 @@ Snapshot run_reference_case(const std::string& method) {
   simulation.run_to(kEndTime);
   Snapshot snapshot;
   const auto& particles = simulation.particles();
-  for (std::size_t i = 0; i < particles.size(); ++i) {
-    if (particles.type[i] == ParticleType::Wall) continue;  // fluid and ghosts, in particle order
+  // Fluid and ghosts in id order: the reference's particle order, whatever order the particles
+  // have been reordered into since (cell-ordered particles, run.sort_period).
+  for (const std::uint32_t i : indices_in_id_order(particles)) {
+    if (particles.type[i] == ParticleType::Wall) continue;
     snapshot.x.push_back(particles.position[i].x());
     snapshot.y.push_back(particles.position[i].y());
     snapshot.pressure.push_back(particles.pressure[i]);

@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "core/base/particle_order.hpp"
 #include "core/base/types.hpp"
 
 namespace mps_lab {
@@ -33,6 +34,11 @@ struct ParticleSet {
   }
   // Method-declared per-particle scalars, keyed by name (std::map: references stay valid).
   std::map<std::string, std::vector<double>> scalar_fields;
+  // The persistent particle id: the index at which add() created the particle. The particles
+  // are reordered by cell every run.sort_period steps (core/search/cell_order.hpp), their ids
+  // with them; frames are written in id order, so a row of a frame is the same particle in
+  // every frame whatever the order in memory (docs/architecture.md, "Cell-ordered particles").
+  std::vector<std::uint32_t> id;
 
   std::size_t size() const { return position.size(); }
   void add(const Vec2& x, const Vec2& v, ParticleType kind, std::uint8_t layer = 0);
@@ -43,6 +49,14 @@ struct ParticleSet {
   std::vector<double>& field(const std::string& name);
   const std::vector<double>& field(const std::string& name) const;
 };
+
+// Moves every per-particle array of the set (the core arrays, the ids, the prescribed wall
+// motion when in use, every named field) by `order` (core/base/particle_order.hpp).
+void permute_particles(ParticleSet& particles, const ParticleOrder& order);
+
+// The indices of the particles in increasing id: k-th entry = the index of the particle with
+// the k-th smallest id (for writing frames in id order).
+std::vector<std::uint32_t> indices_in_id_order(const ParticleSet& particles);
 
 // Every wall particle's velocity to its prescribed one: zero for a fixed wall (spec §7), the
 // motion law's for a moving obstacle's (core/walls/moving_walls.hpp). The methods call it after

@@ -268,6 +268,7 @@ void write_particles(CheckpointWriter& writer, const ParticleSet& particles) {
   for (std::size_t i = 0; i < particles.size(); ++i) types[i] = static_cast<std::uint8_t>(particles.type[i]);
   writer.write_u8s(types);
   writer.write_u8s(particles.wall_layer);
+  writer.write_u32s(particles.id);  // the order in memory (cell-ordered particles)
   writer.write_size(particles.scalar_fields.size());
   for (const auto& [name, values] : particles.scalar_fields) {
     writer.write_string(name);
@@ -297,6 +298,13 @@ void read_particles(CheckpointReader& reader, ParticleSet& particles) {
   }
   particles.wall_layer = reader.read_u8s();
   check_size(particles.wall_layer.size(), "wall layers");
+  particles.id = reader.read_u32s();
+  check_size(particles.id.size(), "ids");
+  try {
+    (void)ParticleOrder::from_old_indices(particles.id);  // the ids are a permutation of 0..N-1
+  } catch (const std::logic_error&) {
+    reader.fail("particle ids that are not a permutation of 0.." + std::to_string(n - 1));
+  }
   const std::size_t fields = reader.read_size();
   if (fields != particles.scalar_fields.size()) {
     reader.fail(std::to_string(fields) + " particle fields, the method declares " +

@@ -108,6 +108,9 @@ void copy_frame(const ParticleSet& particles, const std::vector<FieldSpec>& fiel
   frame.step = step;
   frame.time = time;
   frame.title = title;
+  // In id order (ParticleSet::id): a row is the same particle in every frame, whatever order the
+  // particles have in memory (cell-ordered particles, core/search/cell_order.hpp).
+  const std::vector<std::uint32_t> by_id = indices_in_id_order(particles);
   const std::size_t n = particles.size() - particles.count(ParticleType::Ghost);
   // resize keeps the capacity: after the first frame, no allocation unless the set grew.
   frame.points.resize(3 * n);
@@ -115,7 +118,7 @@ void copy_frame(const ParticleSet& particles, const std::vector<FieldSpec>& fiel
   frame.pressure.resize(n);
   frame.type.resize(n);
   std::size_t k = 0;
-  for (std::size_t i = 0; i < particles.size(); ++i) {
+  for (const std::uint32_t i : by_id) {
     if (particles.type[i] == ParticleType::Ghost) continue;
     frame.points[3 * k] = particles.position[i].x();
     frame.points[3 * k + 1] = particles.position[i].y();
@@ -137,7 +140,7 @@ void copy_frame(const ParticleSet& particles, const std::vector<FieldSpec>& fiel
     auto& copied = frame.field_values[f];
     copied.resize(n);
     k = 0;
-    for (std::size_t i = 0; i < particles.size(); ++i) {
+    for (const std::uint32_t i : by_id) {
       if (particles.type[i] != ParticleType::Ghost) copied[k++] = values[i];
     }
   }

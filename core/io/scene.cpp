@@ -126,6 +126,16 @@ std::vector<ParameterSpec> output_keys() {
   };
 }
 
+// The run block: how the driver runs any method (core/run/driver.cpp).
+std::vector<ParameterSpec> run_keys() {
+  return {
+      integer_parameter("sort_period", kDefaultSortPeriod,
+                        "reorder the particles by cell every N steps (core/search/cell_order.hpp; 0: never)")
+          .at_least(0)
+          .at_most(1000000000),
+  };
+}
+
 std::vector<ParameterSpec> diagnostics_keys() {
   return {
       number_parameter("front_link_distance", 1.5, "l0",
@@ -336,6 +346,7 @@ std::vector<SceneBlockSpec> shared_scene_keys() {
           {"physics", physics_keys()},
           {"time", time_keys()},
           {"output", output_keys()},
+          {"run", run_keys()},
           {"diagnostics", diagnostics_keys()},
           {"diagnostics.pressure_sensors[]", pressure_sensor_keys()},
           {"stability", stability_keys()},
@@ -438,8 +449,8 @@ namespace {
 // The top-level keys; every block that is given must be an object (null is not "the
 // defaults"; fluid_blocks is an array, read below).
 void read_top_level(const nlohmann::json& document, const std::string& source, Scene& scene) {
-  const std::set<std::string> blocks = {"domain", "walls",       "fluid_blocks", "physics",    "time",
-                                        "output", "diagnostics", "stability",    "validation", "methods"};
+  const std::set<std::string> blocks = {"domain", "walls",       "fluid_blocks", "physics",    "time",   "output",
+                                        "run",    "diagnostics", "stability",    "validation", "methods"};
   const auto top = resolve_parameters(top_level_keys(), document, source, "", blocks);
   // A block that is given must be an object: null is not "the defaults" (fluid_blocks: below).
   for (const auto& name : blocks) {
@@ -569,6 +580,11 @@ void read_output(const nlohmann::json& document, const std::string& source, Scen
     if (format == "vtk") scene.output.vtk = true;
     if (format == "vtu") scene.output.vtu = true;
   }
+}
+
+void read_run(const nlohmann::json& document, const std::string& source, Scene& scene) {
+  const auto run = resolve_parameters(run_keys(), block_or_null(document, "run"), source, "run");
+  scene.run.sort_period = run.integer("sort_period");
 }
 
 // diagnostics, with its pressure sensors (names of letters, digits and _, each once).
@@ -886,6 +902,7 @@ Scene parse_scene(nlohmann::json document, const std::string& source, const Meth
   read_fluid_blocks(document, source, scene);
   read_physics_and_time(document, source, scene);
   read_output(document, source, scene);
+  read_run(document, source, scene);
   read_diagnostics(document, source, scene);
   scene.stability = stability_settings(
       resolve_parameters(stability_keys(), block_or_null(document, "stability"), source, "stability"));

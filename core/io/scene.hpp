@@ -67,6 +67,17 @@ struct OutputControl {
   bool vtu = false;                      // output_XXXXXX.vtu, VTK XML appended binary, and output.pvd
 };
 
+// The sort period's default, in steps: chosen by measurement (docs/performance.md, "Cell-ordered
+// particles"; tools/bench-cell-order.sh).
+constexpr long long kDefaultSortPeriod = 50;
+
+// How the driver runs any method.
+struct RunControl {
+  // > 0: the particles are reordered by cell (core/search/cell_order.hpp) before every step
+  // whose index (steps done) is a positive multiple of it; 0: never.
+  long long sort_period = kDefaultSortPeriod;
+};
+
 // A wall-pressure sensor: a face of `diameter` on a wall surface, centred on `position`
 // (core/run/pressure_sensors.hpp); series.csv columns "pressure_<name>" and "pressure_<name>_max".
 struct PressureSensor {
@@ -115,6 +126,7 @@ struct Scene {
   Physics physics;
   TimeControl time;
   OutputControl output;
+  RunControl run;
   DiagnosticsControl diagnostics;
   StabilitySettings stability;                  // the "stability" block (core/run/stability.hpp)
   ValidationControl validation;                 // the "validation" block (experiments to compare with)

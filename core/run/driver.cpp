@@ -15,6 +15,7 @@
 #include "core/io/output.hpp"
 #include "core/run/profile.hpp"
 #include "core/run/thread_governor.hpp"
+#include "core/search/cell_order.hpp"
 
 namespace mps_lab {
 
@@ -23,6 +24,9 @@ namespace {
 using Clock = std::chrono::steady_clock;
 
 constexpr std::size_t kTestedParticles = 10000;
+// The side of the cells the particles are ordered by, in l0: about a kernel support, so that a
+// particle's neighbours lie in a few runs of memory (docs/performance.md, "Cell-ordered particles").
+constexpr double kCellOrderSpacings = 2.0;
 
 double seconds_since(Clock::time_point start) { return std::chrono::duration<double>(Clock::now() - start).count(); }
 
@@ -112,7 +116,21 @@ Simulation::Simulation(const Scene& scene, const MethodInfo& info, PressureSyste
               std::chrono::duration<double>(PhaseTimers::Clock::now() - setup_started_).count());
 }
 
+void Simulation::reorder_by_cell() {
+  const auto timed = timers_.measure(cell_order_phase_);
+  const ParticleOrder order =
+      cell_order(particles_.position, particles_.type, kCellOrderSpacings * scene_.particle_spacing);
+  if (order.is_identity()) return;
+  permute_particles(particles_, order);
+  moving_walls_.permute(order);
+  method_->permute_state(order);
+}
+
 const StepReport& Simulation::advance() {
+  // The schedule is a function of the step index alone, which a checkpoint holds: a resumed
+  // run reorders before the same steps as the uninterrupted one.
+  const long long period = scene_.run.sort_period;
+  if (period > 0 && steps_ > 0 && steps_ % period == 0) reorder_by_cell();
   const double dt = method_->time_step(particles_);
   // The clock: a compensated sum of the steps. Moving walls are put where their laws have them
   // at the end of the step, the time the pressure solve is for.
@@ -259,6 +277,13 @@ void Simulation::restore_checkpoint(CheckpointReader& in) {
   in.begin_section("particles");
   read_particles(in, particles_);
   in.end_section();
+  // The checkpoint holds the particles in their order at that step (cell-ordered particles);
+  // what this Simulation built from the scene is in the initial order, where the index is the
+  // id: the moving walls' members and their prescribed motion follow the particles.
+  const ParticleOrder from_initial = ParticleOrder::from_old_indices(particles_.id);
+  permute_values(particles_.wall_velocity, from_initial);
+  permute_values(particles_.wall_acceleration, from_initial);
+  moving_walls_.permute(from_initial);
 
   in.begin_section("method");
   method_->restore_state(in);

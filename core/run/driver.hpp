@@ -31,7 +31,9 @@ class Simulation {
   // `pressure_system_observer` goes to the method (MethodSetup): empty in a run.
   Simulation(const Scene& scene, const MethodInfo& method, PressureSystemObserver pressure_system_observer = {});
 
-  // Advances one step; returns the step's report. The stability monitor checks the new
+  // Advances one step; returns the step's report. Before a step whose index (steps()) is a
+  // positive multiple of the scene's run.sort_period, the particles are first reordered by cell
+  // (reorder_by_cell). The stability monitor checks the new
   // state and throws RunStopped when the scene's "stability" block says the run must stop
   // (always for a non-finite state).
   const StepReport& advance();
@@ -69,9 +71,14 @@ class Simulation {
   void restore_checkpoint(CheckpointReader& in);
 
  private:
+  // Cell-ordered particles (core/search/cell_order.hpp): the ParticleSet, the moving walls'
+  // members and the method's per-particle state (Method::permute_state) in cell-major order.
+  void reorder_by_cell();
+
   PhaseTimers timers_;  // first: the constructor's own time is its "setup" phase
   PhaseTimers::Clock::time_point setup_started_ = PhaseTimers::Clock::now();
   PhaseTimers::Id diagnostics_phase_ = timers_.phase("diagnostics");
+  PhaseTimers::Id cell_order_phase_ = timers_.phase("cell_order");
   const Scene& scene_;
   const MethodInfo& info_;
   ParticleSet particles_;

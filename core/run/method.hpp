@@ -70,6 +70,15 @@ class Method {
   // The defaults suit a method that keeps nothing between steps.
   virtual void save_state(CheckpointWriter&) const {}
   virtual void restore_state(CheckpointReader&) {}
+  // Cell-ordered particles (core/search/cell_order.hpp, docs/architecture.md): between two
+  // steps the driver has reordered the ParticleSet by `order` (permute_particles). The method
+  // moves every per-particle array it keeps from one step to the next the same way: what
+  // save_state writes per particle, per-particle constants of initialise(), a kept neighbour
+  // list (permute_neighbour_list) or wall samples (permute_wall_samples), and calls its
+  // WallTreatmentSet's permute_state. The contract suite checks every method's run with
+  // reordering against the same run without. The default suits a method that keeps nothing per
+  // particle between steps.
+  virtual void permute_state(const ParticleOrder&) {}
 };
 
 struct MethodSetup {

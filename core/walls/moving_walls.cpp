@@ -38,6 +38,10 @@ MovingWalls::MovingWalls(const Scene& scene, const ParticleSet& initial) : motio
   }
 }
 
+void MovingWalls::permute(const ParticleOrder& order) {
+  for (Member& m : members_) m.index = order.new_index[m.index];
+}
+
 void MovingWalls::apply(ParticleSet& particles, double t) const {
   if (members_.empty()) return;
   particles.wall_velocity.resize(particles.size(), Vec2::Zero());

@@ -26,6 +26,8 @@ class MovingWalls {
   // Wall particles of moving obstacles to their positions, velocities and accelerations at
   // time t (s); sets particles.wall_velocity / wall_acceleration. Does nothing when empty().
   void apply(ParticleSet& particles, double t) const;
+  // The particles were reordered (core/search/cell_order.hpp): each member follows its particle.
+  void permute(const ParticleOrder& order);
   // How many wall particles obstacle k moves.
   std::size_t count(std::size_t k) const;
 

@@ -160,6 +160,10 @@ void WallTreatmentSet::after_correction(WallContext& context) {
   for (auto& member : members_) member.second->after_correction(context);
 }
 
+void WallTreatmentSet::permute_state(const ParticleOrder& order) {
+  for (auto& [name, treatment] : members_) treatment->permute_state(order);
+}
+
 std::vector<std::string> WallTreatmentSet::names() const {
   std::vector<std::string> out;
   for (const auto& member : members_) out.push_back(member.first);

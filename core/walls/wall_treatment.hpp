@@ -124,6 +124,12 @@ class WallTreatment {
   // fluid particle within context.support (core/walls/wall_samples.hpp). `samples.offsets` gets
   // size N + 1; particles that are not fluid get no samples.
   virtual void build_wall_samples(const WallContext&, WallSampleList&) {}
+
+  // The driver reordered the particles between two steps (core/search/cell_order.hpp): a
+  // treatment that keeps per-particle data from one step to the next moves it with
+  // permute_values (core/base/particle_order.hpp). None of the present ones does (their
+  // per-particle arrays are rebuilt within a hook); the default does nothing.
+  virtual void permute_state(const ParticleOrder&) {}
 };
 
 // A boundary model of wall particles: the strategy object the method asks what to do with the
@@ -211,6 +217,8 @@ class WallTreatmentSet {
   void after_correction(WallContext& context);
   // The boundary model's samples (clears `samples` for a model of wall particles).
   void build_wall_samples(const WallContext& context, WallSampleList& samples);
+  // Every member's permute_state; a method calls it from its own Method::permute_state.
+  void permute_state(const ParticleOrder& order);
   std::vector<std::string> names() const;
   bool empty() const { return members_.empty(); }
   // The enabled boundary model: its name (for run.json), whether it is made of wall particles,

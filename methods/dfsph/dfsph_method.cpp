@@ -33,6 +33,7 @@
 #include "core/run/method.hpp"
 #include "core/run/profile.hpp"
 #include "core/run/time_step.hpp"
+#include "core/search/cell_order.hpp"
 #include "methods/dfsph/dfsph_operators.hpp"
 #include "methods/dfsph/dfsph_solvers.hpp"
 
@@ -268,6 +269,15 @@ class DfsphMethod final : public Method {
         in.fail("dfsph state for " + std::to_string(size) + " particles, the scene has " + std::to_string(n));
       }
     }
+  }
+
+  // Cell-ordered particles (core/search/cell_order.hpp): what save_state keeps per particle.
+  void permute_state(const ParticleOrder& order) override {
+    permute_values(boundary_mass_, order);
+    permute_values(density_stiffness_, order);
+    permute_values(divergence_stiffness_, order);
+    permute_values(acceleration_, order);
+    walls_.permute_state(order);
   }
 
  private:

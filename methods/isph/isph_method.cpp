@@ -25,6 +25,7 @@
 #include "core/io/scene.hpp"
 #include "core/run/method.hpp"
 #include "core/run/time_step.hpp"
+#include "core/search/cell_order.hpp"
 #include "core/search/for_each_neighbour.hpp"
 #include "methods/isph/isph_operators.hpp"
 #include "methods/isph/isph_pressure.hpp"
@@ -188,6 +189,14 @@ class IsphMethod final : public Method {
       in.fail("isph wall samples that do not fit the boundary model " + walls_.boundary_name() + " and " +
               std::to_string(acceleration_.size()) + " particles");
     }
+  }
+
+  // Cell-ordered particles (core/search/cell_order.hpp): what save_state keeps per particle.
+  void permute_state(const ParticleOrder& order) override {
+    permute_neighbour_list(neighbours_, order);
+    permute_wall_samples(samples_, order);
+    permute_values(rest_density_field_, order);
+    walls_.permute_state(order);
   }
 
  private:

@@ -19,6 +19,7 @@
 #include "core/io/output.hpp"
 #include "core/io/scene.hpp"
 #include "core/run/method.hpp"
+#include "core/search/cell_order.hpp"
 #include "methods/mps/mps_operators.hpp"
 #include "methods/mps/mps_pressure.hpp"
 #include "methods/mps/mps_schemes.hpp"
@@ -159,6 +160,14 @@ class MpsMethod final : public Method {
       in.fail("mps state for " + std::to_string(carries_pressure_.size()) + " particles, the scene has " +
               std::to_string(acceleration_.size()));
     }
+  }
+
+  // Cell-ordered particles (core/search/cell_order.hpp): what save_state keeps per particle.
+  void permute_state(const ParticleOrder& order) override {
+    permute_neighbour_list(neighbours_, order);
+    permute_wall_samples(samples_, order);
+    permute_values(carries_pressure_, order);
+    walls_.permute_state(order);
   }
 
  private:

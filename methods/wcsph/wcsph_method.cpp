@@ -25,6 +25,7 @@
 #include "core/io/scene.hpp"
 #include "core/run/method.hpp"
 #include "core/run/time_step.hpp"
+#include "core/search/cell_order.hpp"
 #include "core/search/for_each_neighbour.hpp"
 #include "methods/wcsph/wcsph_operators.hpp"
 
@@ -194,6 +195,15 @@ class WcsphMethod final : public Method {
         (samples_.has_samples() && samples_.offsets.size() != n + 1)) {
       in.fail("wcsph wall samples that do not fit the boundary model " + walls_.boundary_name());
     }
+  }
+
+  // Cell-ordered particles (core/search/cell_order.hpp): what save_state keeps per particle.
+  void permute_state(const ParticleOrder& order) override {
+    permute_values(acceleration_, order);
+    permute_values(density_rate_, order);
+    permute_neighbour_list(neighbours_, order);
+    permute_wall_samples(samples_, order);
+    walls_.permute_state(order);
   }
 
  private:
