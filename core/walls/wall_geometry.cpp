@@ -25,8 +25,11 @@ WallGeometry::WallGeometry(const Scene& scene)
   for (std::size_t k = 0; k < walls_.obstacles.size(); ++k) {
     const Box& box = walls_.obstacles[k];
     const bool moving = k < walls_.motions.size() && walls_.motions[k].moves();
-    obstacles_.push_back(moving ? Box{Vec2(far, far), Vec2(-far, -far)}
-                                : Box{box.min - Vec2(h, h), box.max + Vec2(h, h)});
+    // A polygon is its own surface (core/walls/wall_polygon.hpp): no box.
+    const bool polygon = walls_.is_polygon(k);
+    polygons_.push_back(polygon ? walls_.polygons[k] : Polygon{});
+    obstacles_.push_back(moving || polygon ? Box{Vec2(far, far), Vec2(-far, -far)}
+                                           : Box{box.min - Vec2(h, h), box.max + Vec2(h, h)});
   }
 
   // Tank sides: along the surface, ending at the neighbouring side's surface, or at the domain
@@ -51,6 +54,7 @@ WallGeometry::WallGeometry(const Scene& scene)
     candidates.push_back({Vec2(s.min.x(), s.min.y()), Vec2(s.min.x(), s.max.y()), Vec2(-1.0, 0.0), body});
     candidates.push_back({Vec2(s.max.x(), s.min.y()), Vec2(s.max.x(), s.max.y()), Vec2(1.0, 0.0), body});
   }
+  add_polygon_edges(candidates);
   for (const WallSegment& segment : candidates) {
     // A probe just in front of the face's middle: on the fluid side of every other solid?
     const Vec2 probe = 0.5 * (segment.a + segment.b) + 1e-6 * h * segment.normal;
@@ -60,9 +64,42 @@ WallGeometry::WallGeometry(const Scene& scene)
     }
     // (Tank sides stay whole: an obstacle on the bed covers part of the bed, not all of it.)
     for (std::size_t k = 0; k < obstacles_.size() && !buried && segment.body >= 0; ++k) {
-      if (static_cast<int>(k) != segment.body && strictly_inside_box(probe, obstacles_[k])) buried = true;
+      if (static_cast<int>(k) == segment.body) continue;
+      if (strictly_inside_box(probe, obstacles_[k]) || inside_polygon_solid(probe, k)) buried = true;
     }
     if (!buried) segments_.push_back(segment);
+  }
+}
+
+bool WallGeometry::inside_polygon_solid(const Vec2& x, std::size_t k) const {
+  return !polygons_[k].empty() && depth_inside_polygon(x, polygons_[k]) > 0.0;
+}
+
+// The edges of polygon obstacles with their outward normals, each cut to the tank's interior
+// (the part of an edge inside a tank side's wall is no surface: a wedge drawn down into the
+// bed has its slope start at the bed's surface). Liang-Barsky clipping against interior_.
+void WallGeometry::add_polygon_edges(std::vector<WallSegment>& candidates) const {
+  for (std::size_t k = 0; k < polygons_.size(); ++k) {
+    const Polygon& polygon = polygons_[k];
+    for (std::size_t e = 0; e < polygon.size(); ++e) {
+      const Vec2 a = polygon[e], along = polygon[(e + 1) % polygon.size()] - a;
+      double t0 = 0.0, t1 = 1.0;
+      for (int axis = 0; axis < 2; ++axis) {
+        for (const double side : {-1.0, 1.0}) {
+          const double bound = side < 0.0 ? interior_.min[axis] : interior_.max[axis];
+          const double q = side * (bound - a[axis]), p = side * along[axis];  // inside: p t <= q
+          if (p == 0.0) {
+            if (q < 0.0) t1 = -1.0;
+          } else if (p > 0.0) {
+            t1 = std::min(t1, q / p);
+          } else {
+            t0 = std::max(t0, q / p);
+          }
+        }
+      }
+      if (t1 - t0 <= 1e-12) continue;
+      candidates.push_back({a + t0 * along, a + t1 * along, outward_normal(polygon, e), static_cast<int>(k)});
+    }
   }
 }
 
@@ -89,6 +126,9 @@ double WallGeometry::depth_inside(const Vec2& x) const {
     if (strictly_inside_box(x, s)) {
       depth = std::max(depth, std::min({x.x() - s.min.x(), s.max.x() - x.x(), x.y() - s.min.y(), s.max.y() - x.y()}));
     }
+  }
+  for (const Polygon& polygon : polygons_) {
+    if (!polygon.empty()) depth = std::max(depth, depth_inside_polygon(x, polygon));
   }
   return depth;
 }
