@@ -54,6 +54,7 @@ WallGeometry::WallGeometry(const Scene& scene)
     candidates.push_back({Vec2(s.min.x(), s.min.y()), Vec2(s.min.x(), s.max.y()), Vec2(-1.0, 0.0), body});
     candidates.push_back({Vec2(s.max.x(), s.min.y()), Vec2(s.max.x(), s.max.y()), Vec2(1.0, 0.0), body});
   }
+  candidates = split_tank_sides_at_polygons(candidates);
   add_polygon_edges(candidates);
   for (const WallSegment& segment : candidates) {
     // A probe just in front of the face's middle: on the fluid side of every other solid?
@@ -69,6 +70,52 @@ WallGeometry::WallGeometry(const Scene& scene)
     }
     if (!buried) segments_.push_back(segment);
   }
+}
+
+// A tank side under a polygon (a wedge on the bed) is no surface there: the side is cut where
+// the polygon's edges cross it and the pieces covered by the polygon are dropped. (A wall of
+// samples built behind the covered piece would leave a hole inside the polygon next to it:
+// core/walls/distance_function.cpp counts each virtual point by its nearest segment.) Box
+// obstacles leave the sides whole, as before polygons existed.
+std::vector<WallSegment> WallGeometry::split_tank_sides_at_polygons(const std::vector<WallSegment>& sides) const {
+  std::vector<WallSegment> pieces;
+  for (const WallSegment& side : sides) {
+    if (side.body >= 0) {  // an obstacle's face: buried or not below
+      pieces.push_back(side);
+      continue;
+    }
+    const Vec2 along = side.b - side.a;
+    std::vector<double> cuts = {0.0, 1.0};
+    for (const Polygon& polygon : polygons_) {
+      for (std::size_t e = 0; e < polygon.size(); ++e) {
+        const Vec2 p = polygon[e], q = polygon[(e + 1) % polygon.size()] - p;
+        const double denominator = along.x() * q.y() - along.y() * q.x();
+        if (std::fabs(denominator) < 1e-300) continue;  // parallel: no crossing point
+        const Vec2 w = p - side.a;
+        const double t = (w.x() * q.y() - w.y() * q.x()) / denominator;
+        const double u = (w.x() * along.y() - w.y() * along.x()) / denominator;
+        if (t > 0.0 && t < 1.0 && u >= 0.0 && u <= 1.0) cuts.push_back(t);
+      }
+    }
+    if (cuts.size() == 2) {  // no polygon crosses it: whole, to the bit, unless one covers it all
+      const Vec2 probe = 0.5 * (side.a + side.b) + 1e-6 * half_spacing_ * side.normal;
+      bool covered = false;
+      for (std::size_t k = 0; k < polygons_.size() && !covered && side.body < 0; ++k) {
+        covered = inside_polygon_solid(probe, k);
+      }
+      if (!covered) pieces.push_back(side);
+      continue;
+    }
+    std::sort(cuts.begin(), cuts.end());
+    for (std::size_t c = 0; c + 1 < cuts.size(); ++c) {
+      if (cuts[c + 1] - cuts[c] < 1e-12) continue;
+      const Vec2 middle = side.a + 0.5 * (cuts[c] + cuts[c + 1]) * along + 1e-6 * half_spacing_ * side.normal;
+      bool covered = false;
+      for (std::size_t k = 0; k < polygons_.size() && !covered; ++k) covered = inside_polygon_solid(middle, k);
+      if (!covered) pieces.push_back({side.a + cuts[c] * along, side.a + cuts[c + 1] * along, side.normal, side.body});
+    }
+  }
+  return pieces;
 }
 
 bool WallGeometry::inside_polygon_solid(const Vec2& x, std::size_t k) const {

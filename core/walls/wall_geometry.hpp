@@ -56,6 +56,7 @@ class WallGeometry {
   bool past_open_side(const Vec2& x) const;
   bool inside_polygon_solid(const Vec2& x, std::size_t k) const;
   void add_polygon_edges(std::vector<WallSegment>& candidates) const;
+  std::vector<WallSegment> split_tank_sides_at_polygons(const std::vector<WallSegment>& sides) const;
   std::vector<WallSegment> segments_;
   TankWalls walls_;
   Box domain_;

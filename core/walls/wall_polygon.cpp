@@ -109,7 +109,7 @@ std::string polygon_defect(const Polygon& polygon, double tolerance) {
       const Vec2 &r = polygon[b], &s = polygon[(b + 1) % n];
       const bool next = b == a + 1, wraps = (b + 1) % n == a;
       // Neighbours share a vertex: they overlap only if one folds back onto the other.
-      const bool meet = next     ? distance_to_segment(s, p, q) < tolerance || distance_to_segment(p, r, s) < tolerance
+      const bool meet = next    ? distance_to_segment(s, p, q) < tolerance || distance_to_segment(p, r, s) < tolerance
                         : wraps ? distance_to_segment(r, p, q) < tolerance || distance_to_segment(q, r, s) < tolerance
                                 : segments_meet(p, q, r, s, tolerance);
       if (meet) return "edges " + std::to_string(a) + " and " + std::to_string(b) + " intersect";
