@@ -7,6 +7,7 @@
 #include <utility>
 
 #include "core/base/error.hpp"
+#include "core/walls/wall_polygon.hpp"
 
 namespace mps_lab {
 
@@ -87,7 +88,9 @@ std::vector<LatticeBox> lattice_obstacles(const Scene& scene, const Lattice& lat
   const Vec2 origin = lattice.origin;
   const double l0 = lattice.l0;
   std::vector<LatticeBox> obstacles;
-  for (const Box& box : scene.walls.obstacles) {
+  for (std::size_t k = 0; k < scene.walls.obstacles.size(); ++k) {
+    if (scene.walls.is_polygon(k)) continue;  // add_polygon_walls
+    const Box& box = scene.walls.obstacles[k];
     obstacles.push_back({std::llround((box.min.x() - origin.x()) / l0), std::llround((box.min.y() - origin.y()) / l0),
                          std::llround((box.max.x() - origin.x()) / l0), std::llround((box.max.y() - origin.y()) / l0)});
   }
@@ -97,6 +100,17 @@ std::vector<LatticeBox> lattice_obstacles(const Scene& scene, const Lattice& lat
 bool in_obstacle(const std::vector<LatticeBox>& obstacles, long long i, long long j) {
   for (const auto& b : obstacles) {
     if (i >= b.i0 && i <= b.i1 && j >= b.j0 && j <= b.j1) return true;
+  }
+  return false;
+}
+
+// Whether a lattice point x is cut by a polygon obstacle: inside its surface or closer than
+// l0/2 to it (the rule of a box, whose surface is l0/2 outside its lattice points;
+// core/walls/wall_polygon.hpp).
+bool cut_by_polygon(const TankWalls& walls, const Vec2& x, double l0) {
+  for (const Polygon& polygon : walls.polygons) {
+    if (polygon.empty()) continue;
+    if (inside_polygon(x, polygon) || distance_to_polygon(x, polygon) < 0.5 * l0 - 1e-9 * l0) return true;
   }
   return false;
 }
@@ -122,7 +136,7 @@ LatticePoints add_fluid(const Scene& scene, const Lattice& lattice, const std::v
         if (strictly_inside(x.x(), block.region.min.x(), block.region.max.x(), eps) &&
             strictly_inside(x.y(), block.region.min.y(), block.region.max.y(), eps)) {
           ++inside;
-          if (in_obstacle(obstacles, i, j)) continue;
+          if (in_obstacle(obstacles, i, j) || cut_by_polygon(scene.walls, x, l0)) continue;
           if (fluid_points.insert({j, i}).second) {
             particles.add(x, block.velocity, ParticleType::Fluid);
           }
@@ -200,6 +214,27 @@ void add_obstacle_walls(const std::vector<LatticeBox>& obstacles, long long laye
   }
 }
 
+// Polygon obstacles: their wall points (core/walls/wall_polygon.hpp), each dropped where a
+// wall particle already lies closer than l0/2 (a polygon on the bed or against another solid).
+void add_polygon_walls(const TankWalls& walls, double l0, ParticleSet& particles) {
+  for (const Polygon& polygon : walls.polygons) {
+    if (polygon.empty()) continue;
+    std::vector<Vec2> nearby;  // wall particles within reach of the polygon, m
+    Vec2 low = polygon.front(), high = low;
+    for (const Vec2& x : polygon) low = low.cwiseMin(x), high = high.cwiseMax(x);
+    for (std::size_t i = 0; i < particles.size(); ++i) {
+      const Vec2& x = particles.position[i];
+      const bool reach = (x.array() > low.array() - l0).all() && (x.array() < high.array() + l0).all();
+      if (particles.type[i] == ParticleType::Wall && reach) nearby.push_back(x);
+    }
+    for (const auto& [x, layer] : polygon_wall_points(polygon, l0, walls.layers)) {
+      const bool taken =
+          std::any_of(nearby.begin(), nearby.end(), [&](const Vec2& y) { return (x - y).norm() < 0.5 * l0; });
+      if (!taken) particles.add(x, Vec2::Zero(), ParticleType::Wall, static_cast<std::uint8_t>(layer));
+    }
+  }
+}
+
 }  // namespace
 
 ParticleSet build_particles(const Scene& scene, bool wall_particles) {
@@ -215,6 +250,7 @@ ParticleSet build_particles(const Scene& scene, bool wall_particles) {
   WallBuilder builder(lattice, fluid_points, particles);
   add_tank_walls(scene.walls, nx, ny, builder);
   add_obstacle_walls(obstacles, scene.walls.layers, builder);
+  add_polygon_walls(scene.walls, l0, particles);
   return particles;
 }
 

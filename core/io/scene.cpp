@@ -15,6 +15,7 @@
 #include "core/io/geometry.hpp"
 #include "core/run/method.hpp"
 #include "core/walls/wall_geometry.hpp"
+#include "core/walls/wall_polygon.hpp"
 
 namespace mps_lab {
 
@@ -514,6 +515,47 @@ WallMotion read_motion(const nlohmann::json& block, const std::string& source, c
   return motion;
 }
 
+// walls.obstacles[k] = {"polygon": [[x, y], ...]}: the wall surface as a polygon
+// (core/walls/wall_polygon.hpp), either orientation, stored counter-clockwise; its shape is
+// checked here, its place in the domain by check_obstacles. No other key: a box's min/max
+// would be ignored, a motion is not supported for a polygon (yet).
+void read_polygon_obstacle(const nlohmann::json& block, const std::string& source, const std::string& path,
+                           TankWalls& walls) {
+  for (const auto& [key, value] : block.items()) {
+    if (key == "polygon") continue;
+    const bool known = key == "min" || key == "max" || key == "motion";
+    throw_input_error(source, path + "." + key,
+                      known ? "is not allowed beside " + path + ".polygon (" +
+                                  (key == "motion" ? "a moving polygon is not yet supported: only a box moves"
+                                                   : "a polygon obstacle has no min/max") +
+                                  ")"
+                            : "unknown key of a polygon obstacle (expected: polygon)");
+  }
+  const std::string key = path + ".polygon";
+  const nlohmann::json& vertices = block.at("polygon");
+  const std::string expected = ", expected an array of at least 3 [x, y] points in m";
+  if (!vertices.is_array()) throw_input_error(source, key, "got " + describe_json(vertices) + expected);
+  Polygon polygon;
+  for (const auto& vertex : vertices) {
+    const bool pair = vertex.is_array() && vertex.size() == 2 && vertex[0].is_number() && vertex[1].is_number();
+    if (!pair) throw_input_error(source, key, "got vertex " + describe_json(vertex) + expected);
+    polygon.emplace_back(vertex[0].get<double>(), vertex[1].get<double>());
+    if (!std::isfinite(polygon.back().x()) || !std::isfinite(polygon.back().y())) {
+      throw_input_error(source, key, "got vertex " + describe_json(vertex) + expected);
+    }
+  }
+  Vec2 low = polygon.empty() ? Vec2::Zero() : polygon.front(), high = low;
+  for (const Vec2& x : polygon) low = low.cwiseMin(x), high = high.cwiseMax(x);
+  // Vertices closer than 1e-9 of the polygon's size are one vertex (a typo, not a design).
+  const std::string defect = polygon_defect(polygon, 1e-9 * std::max(1e-12, (high - low).norm()));
+  if (!defect.empty()) {
+    throw_input_error(source, key, "got " + describe_json(vertices) + ", expected a simple polygon (" + defect + ")");
+  }
+  walls.obstacles.push_back({low, high});  // its bounding box: not the solid (TankWalls::polygons)
+  walls.polygons.push_back(counter_clockwise(polygon));
+  walls.motions.emplace_back();
+}
+
 // walls: the tank's layers and sides, and the obstacles.
 void read_walls(const nlohmann::json& document, const std::string& source, Scene& scene) {
   const auto& walls_json = block_or_null(document, "walls");
@@ -526,8 +568,14 @@ void read_walls(const nlohmann::json& document, const std::string& source, Scene
     }
     for (std::size_t k = 0; k < obstacles.size(); ++k) {
       const std::string path = "walls.obstacles[" + std::to_string(k) + "]";
+      const bool polygon = obstacles[k].is_object() && obstacles[k].contains("polygon");
+      if (polygon) {
+        read_polygon_obstacle(obstacles[k], source, path, scene.walls);
+        continue;
+      }
       const auto box = resolve_parameters(obstacle_keys(), obstacles[k], source, path, {"motion"});
       scene.walls.obstacles.push_back({box.vector2("min"), box.vector2("max")});
+      scene.walls.polygons.emplace_back();
       const bool moving = obstacles[k].is_object() && obstacles[k].contains("motion");
       scene.walls.motions.push_back(moving ? read_motion(obstacles[k].at("motion"), source, path + ".motion")
                                            : WallMotion{});
@@ -676,6 +724,17 @@ void check_fluid_blocks(const std::string& source, const Scene& scene) {
   }
 }
 
+// A polygon obstacle lies inside the domain (its vertices, hence its edges: the domain is convex).
+void check_polygon_in_domain(const std::string& source, const Scene& scene, std::size_t k) {
+  for (const Vec2& vertex : scene.walls.polygons[k]) {
+    if (!inside_box(vertex, scene.domain, 1e-9 * scene.particle_spacing)) {
+      throw_input_error(
+          source, "walls.obstacles[" + std::to_string(k) + "].polygon",
+          "got vertex " + describe_point(vertex) + ", expected a polygon inside the domain " + describe_domain(scene));
+    }
+  }
+}
+
 void check_obstacles(const std::string& source, const Scene& scene) {
   const double l0 = scene.particle_spacing;
   const std::string domain_text = describe_domain(scene);
@@ -684,6 +743,10 @@ void check_obstacles(const std::string& source, const Scene& scene) {
   for (std::size_t k = 0; k < scene.walls.obstacles.size(); ++k) {
     const Box& box = scene.walls.obstacles[k];
     const std::string path = "walls.obstacles[" + std::to_string(k) + "]";
+    if (scene.walls.is_polygon(k)) {
+      check_polygon_in_domain(source, scene, k);
+      continue;
+    }
     if (!(box.max.x() > box.min.x() && box.max.y() > box.min.y())) {
       throw_input_error(source, path + ".max",
                         "got " + describe_point(box.max) + ", expected a point above and to the right of " + path +

@@ -33,6 +33,11 @@ struct TankWalls {
   // of wall particles fills each with `layers` layers from its surface inwards, the others
   // take its four faces as wall segments (core/walls/wall_geometry.hpp).
   std::vector<Box> obstacles;
+  // One per obstacle: empty for a box; for a polygon obstacle (walls.obstacles[k].polygon) its
+  // vertices counter-clockwise, m, the wall SURFACE (core/walls/wall_polygon.hpp); obstacles[k]
+  // is then its bounding box, which no code treats as the solid.
+  std::vector<std::vector<Vec2>> polygons;
+  bool is_polygon(std::size_t k) const { return k < polygons.size() && !polygons[k].empty(); }
   // One per obstacle (walls.obstacles[k].motion): its prescribed motion, MotionLaw::None when
   // it is fixed (core/walls/wall_motion.hpp).
   std::vector<WallMotion> motions;

@@ -25,8 +25,11 @@ WallGeometry::WallGeometry(const Scene& scene)
   for (std::size_t k = 0; k < walls_.obstacles.size(); ++k) {
     const Box& box = walls_.obstacles[k];
     const bool moving = k < walls_.motions.size() && walls_.motions[k].moves();
-    obstacles_.push_back(moving ? Box{Vec2(far, far), Vec2(-far, -far)}
-                                : Box{box.min - Vec2(h, h), box.max + Vec2(h, h)});
+    // A polygon is its own surface (core/walls/wall_polygon.hpp): no box.
+    const bool polygon = walls_.is_polygon(k);
+    polygons_.push_back(polygon ? walls_.polygons[k] : Polygon{});
+    obstacles_.push_back(moving || polygon ? Box{Vec2(far, far), Vec2(-far, -far)}
+                                           : Box{box.min - Vec2(h, h), box.max + Vec2(h, h)});
   }
 
   // Tank sides: along the surface, ending at the neighbouring side's surface, or at the domain
@@ -51,6 +54,8 @@ WallGeometry::WallGeometry(const Scene& scene)
     candidates.push_back({Vec2(s.min.x(), s.min.y()), Vec2(s.min.x(), s.max.y()), Vec2(-1.0, 0.0), body});
     candidates.push_back({Vec2(s.max.x(), s.min.y()), Vec2(s.max.x(), s.max.y()), Vec2(1.0, 0.0), body});
   }
+  candidates = split_tank_sides_at_polygons(candidates);
+  add_polygon_edges(candidates);
   for (const WallSegment& segment : candidates) {
     // A probe just in front of the face's middle: on the fluid side of every other solid?
     const Vec2 probe = 0.5 * (segment.a + segment.b) + 1e-6 * h * segment.normal;
@@ -60,9 +65,88 @@ WallGeometry::WallGeometry(const Scene& scene)
     }
     // (Tank sides stay whole: an obstacle on the bed covers part of the bed, not all of it.)
     for (std::size_t k = 0; k < obstacles_.size() && !buried && segment.body >= 0; ++k) {
-      if (static_cast<int>(k) != segment.body && strictly_inside_box(probe, obstacles_[k])) buried = true;
+      if (static_cast<int>(k) == segment.body) continue;
+      if (strictly_inside_box(probe, obstacles_[k]) || inside_polygon_solid(probe, k)) buried = true;
     }
     if (!buried) segments_.push_back(segment);
+  }
+}
+
+// A tank side under a polygon (a wedge on the bed) is no surface there: the side is cut where
+// the polygon's edges cross it and the pieces covered by the polygon are dropped. (A wall of
+// samples built behind the covered piece would leave a hole inside the polygon next to it:
+// core/walls/distance_function.cpp counts each virtual point by its nearest segment.) Box
+// obstacles leave the sides whole, as before polygons existed.
+std::vector<WallSegment> WallGeometry::split_tank_sides_at_polygons(const std::vector<WallSegment>& sides) const {
+  std::vector<WallSegment> pieces;
+  for (const WallSegment& side : sides) {
+    if (side.body >= 0) {  // an obstacle's face: buried or not below
+      pieces.push_back(side);
+      continue;
+    }
+    const Vec2 along = side.b - side.a;
+    std::vector<double> cuts = {0.0, 1.0};
+    for (const Polygon& polygon : polygons_) {
+      for (std::size_t e = 0; e < polygon.size(); ++e) {
+        const Vec2 p = polygon[e], q = polygon[(e + 1) % polygon.size()] - p;
+        const double denominator = along.x() * q.y() - along.y() * q.x();
+        if (std::fabs(denominator) < 1e-300) continue;  // parallel: no crossing point
+        const Vec2 w = p - side.a;
+        const double t = (w.x() * q.y() - w.y() * q.x()) / denominator;
+        const double u = (w.x() * along.y() - w.y() * along.x()) / denominator;
+        if (t > 0.0 && t < 1.0 && u >= 0.0 && u <= 1.0) cuts.push_back(t);
+      }
+    }
+    if (cuts.size() == 2) {  // no polygon crosses it: whole, to the bit, unless one covers it all
+      const Vec2 probe = 0.5 * (side.a + side.b) + 1e-6 * half_spacing_ * side.normal;
+      bool covered = false;
+      for (std::size_t k = 0; k < polygons_.size() && !covered && side.body < 0; ++k) {
+        covered = inside_polygon_solid(probe, k);
+      }
+      if (!covered) pieces.push_back(side);
+      continue;
+    }
+    std::sort(cuts.begin(), cuts.end());
+    for (std::size_t c = 0; c + 1 < cuts.size(); ++c) {
+      if (cuts[c + 1] - cuts[c] < 1e-12) continue;
+      const Vec2 middle = side.a + 0.5 * (cuts[c] + cuts[c + 1]) * along + 1e-6 * half_spacing_ * side.normal;
+      bool covered = false;
+      for (std::size_t k = 0; k < polygons_.size() && !covered; ++k) covered = inside_polygon_solid(middle, k);
+      if (!covered) pieces.push_back({side.a + cuts[c] * along, side.a + cuts[c + 1] * along, side.normal, side.body});
+    }
+  }
+  return pieces;
+}
+
+bool WallGeometry::inside_polygon_solid(const Vec2& x, std::size_t k) const {
+  return !polygons_[k].empty() && depth_inside_polygon(x, polygons_[k]) > 0.0;
+}
+
+// The edges of polygon obstacles with their outward normals, each cut to the tank's interior
+// (the part of an edge inside a tank side's wall is no surface: a wedge drawn down into the
+// bed has its slope start at the bed's surface). Liang-Barsky clipping against interior_.
+void WallGeometry::add_polygon_edges(std::vector<WallSegment>& candidates) const {
+  for (std::size_t k = 0; k < polygons_.size(); ++k) {
+    const Polygon& polygon = polygons_[k];
+    for (std::size_t e = 0; e < polygon.size(); ++e) {
+      const Vec2 a = polygon[e], along = polygon[(e + 1) % polygon.size()] - a;
+      double t0 = 0.0, t1 = 1.0;
+      for (int axis = 0; axis < 2; ++axis) {
+        for (const double side : {-1.0, 1.0}) {
+          const double bound = side < 0.0 ? interior_.min[axis] : interior_.max[axis];
+          const double q = side * (bound - a[axis]), p = side * along[axis];  // inside: p t <= q
+          if (p == 0.0) {
+            if (q < 0.0) t1 = -1.0;
+          } else if (p > 0.0) {
+            t1 = std::min(t1, q / p);
+          } else {
+            t0 = std::max(t0, q / p);
+          }
+        }
+      }
+      if (t1 - t0 <= 1e-12) continue;
+      candidates.push_back({a + t0 * along, a + t1 * along, outward_normal(polygon, e), static_cast<int>(k)});
+    }
   }
 }
 
@@ -89,6 +173,9 @@ double WallGeometry::depth_inside(const Vec2& x) const {
     if (strictly_inside_box(x, s)) {
       depth = std::max(depth, std::min({x.x() - s.min.x(), s.max.x() - x.x(), x.y() - s.min.y(), s.max.y() - x.y()}));
     }
+  }
+  for (const Polygon& polygon : polygons_) {
+    if (!polygon.empty()) depth = std::max(depth, depth_inside_polygon(x, polygon));
   }
   return depth;
 }

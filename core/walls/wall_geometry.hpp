@@ -8,15 +8,17 @@
 // boundary and the first fluid row one spacing inside, so the wall surface is half a spacing
 // from each: x_min + l0/2 for a left wall, and so on. An obstacle box (walls.obstacles,
 // corners on the lattice) holds wall particles on and inside its sides; its surface is the
-// box grown by l0/2. Every boundary model, with particles or without, thus has its wall at
-// the same place and the same fluid lattice fills the tank. The geometry is that of the fixed
-// walls: an obstacle with a motion law (core/walls/moving_walls.hpp) is left out.
+// box grown by l0/2. A polygon obstacle (walls.obstacles[k].polygon) is its own surface, its
+// edges segments at any angle (core/walls/wall_polygon.hpp). Every boundary model, with particles or without, thus has
+// its wall at the same place and the same fluid lattice fills the tank. The geometry is that of the fixed walls: an
+// obstacle with a motion law (core/walls/moving_walls.hpp) is left out.
 #include <cstddef>
 #include <vector>
 
 #include "core/base/particles.hpp"
 #include "core/base/types.hpp"
 #include "core/io/scene.hpp"
+#include "core/walls/wall_polygon.hpp"
 
 namespace mps_lab {
 
@@ -52,11 +54,15 @@ class WallGeometry {
 
  private:
   bool past_open_side(const Vec2& x) const;
+  bool inside_polygon_solid(const Vec2& x, std::size_t k) const;
+  void add_polygon_edges(std::vector<WallSegment>& candidates) const;
+  std::vector<WallSegment> split_tank_sides_at_polygons(const std::vector<WallSegment>& sides) const;
   std::vector<WallSegment> segments_;
   TankWalls walls_;
   Box domain_;
-  Box interior_;                // the tank's surfaces; open sides extend to infinity
-  std::vector<Box> obstacles_;  // surface boxes (the obstacle grown by l0/2)
+  Box interior_;                   // the tank's surfaces; open sides extend to infinity
+  std::vector<Box> obstacles_;     // surface boxes (the obstacle grown by l0/2); empty for a polygon
+  std::vector<Polygon> polygons_;  // per obstacle: its surface polygon, counter-clockwise; empty for a box
   double half_spacing_ = 0.0;
 };
 

@@ -4,11 +4,13 @@
 // and damped, v_n <- -e v_n (e = restitution, spec 0.2). Walls are the tank sides the scene
 // lists; an open side (the top in the dam break) is not clamped. An obstacle (walls.obstacles)
 // is clamped the same way: a particle inside its box grown by the offset leaves it through
-// the nearest face. A moving obstacle is not clamped (its wall particles move with it).
+// the nearest face; a polygon obstacle likewise through its nearest edge. A moving obstacle is not clamped (its wall
+// particles move with it).
 #include <algorithm>
 #include <vector>
 
 #include "core/io/scene.hpp"
+#include "core/walls/wall_polygon.hpp"
 #include "core/walls/wall_treatment.hpp"
 
 namespace mps_lab {
@@ -19,12 +21,17 @@ class WallPositionClamp final : public WallTreatment {
   explicit WallPositionClamp(const WallTreatmentSetup& setup)
       : restitution_(setup.parameters.number("restitution")), walls_(setup.scene.walls) {
     const double offset = setup.parameters.number("offset") * setup.scene.particle_spacing;
+    polygon_clearance_ = offset - 0.5 * setup.scene.particle_spacing;
     low_ = setup.scene.domain.min + Vec2(offset, offset);
     high_ = setup.scene.domain.max - Vec2(offset, offset);
     for (std::size_t k = 0; k < setup.scene.walls.obstacles.size(); ++k) {
       // A moving obstacle (walls.obstacles[k].motion) is kept out of by its moving wall
       // particles, not clamped at its initial box.
       if (k < setup.scene.walls.motions.size() && setup.scene.walls.motions[k].moves()) continue;
+      if (setup.scene.walls.is_polygon(k)) {
+        polygons_.push_back(setup.scene.walls.polygons[k]);
+        continue;
+      }
       const Box& box = setup.scene.walls.obstacles[k];
       obstacles_.push_back({box.min - Vec2(offset, offset), box.max + Vec2(offset, offset)});
     }
@@ -58,7 +65,22 @@ class WallPositionClamp final : public WallTreatment {
         if (v.y() > 0.0) v.y() *= -restitution_;
       }
       for (const Box& box : obstacles_) clamp_out_of(box, x, v);
+      for (const Polygon& polygon : polygons_) clamp_out_of(polygon, x, v);
     }
+  }
+
+  // A polygon is its wall surface (core/walls/wall_polygon.hpp), l0/2 outside its first layer:
+  // a particle inside it, or outside but nearer than `offset - l0/2` to it, is put at that
+  // clearance from its nearest edge along the edge's outward normal, v_n <- -e v_n.
+  void clamp_out_of(const Polygon& polygon, Vec2& x, Vec2& v) const {
+    std::size_t edge = 0;
+    const double distance = distance_to_polygon(x, polygon, &edge);
+    const double outside = inside_polygon(x, polygon) ? -distance : distance;  // signed, m
+    if (outside >= polygon_clearance_) return;
+    const Vec2 normal = outward_normal(polygon, edge);
+    x += (polygon_clearance_ - outside) * normal;
+    const double normal_speed = v.dot(normal);
+    if (normal_speed < 0.0) v -= (1.0 + restitution_) * normal_speed * normal;
   }
 
   void clamp_out_of(const Box& box, Vec2& x, Vec2& v) const {
@@ -84,9 +106,11 @@ class WallPositionClamp final : public WallTreatment {
 
   double restitution_;
   TankWalls walls_;
-  std::vector<Box> obstacles_;  // obstacle boxes grown by the offset, m
-  Vec2 low_;                    // m
-  Vec2 high_;                   // m
+  std::vector<Box> obstacles_;      // obstacle boxes grown by the offset, m
+  std::vector<Polygon> polygons_;   // polygon obstacles (their surfaces), m
+  double polygon_clearance_ = 0.0;  // offset - l0/2, m: where the clamp puts particles off a polygon
+  Vec2 low_;                        // m
+  Vec2 high_;                       // m
 };
 
 }  // namespace
