@@ -123,6 +123,19 @@ void WallTreatmentSet::build_wall_samples(const WallContext& context, WallSample
   boundary_->build_wall_samples(context, samples);
 }
 
+void search_neighbours_and_wall_samples(const ParticleSet& particles, double support, PhaseTimers* timers,
+                                        PhaseTimers::Id search_phase, CellList& cells, NeighbourList& neighbours,
+                                        WallTreatmentSet& walls, WallContext& context, WallSampleList& samples) {
+  {
+    const auto timed = measure(timers, search_phase);
+    cells.build(particles.position, particles.type, support);
+    cells.find_neighbours(particles.position, particles.type, support, neighbours);
+  }
+  context.samples = &samples;
+  context.support = support;
+  walls.build_wall_samples(context, samples);
+}
+
 const WallTreatmentChoice* boundary_choice(const std::vector<WallTreatmentChoice>& choices) {
   for (const auto& choice : choices) {
     if (choice.enabled && choice.info->role == WallTreatmentRole::Boundary) return &choice;

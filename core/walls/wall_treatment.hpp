@@ -240,6 +240,14 @@ class WallTreatmentSet {
   bool wall_particles_ = true;
 };
 
+// The once-per-step search of a method with one operator support (m): every particle's
+// neighbours within `support` from the cell list (timed as `search_phase` of `timers`), then the
+// boundary model's wall samples within it (none for wall particles), handed to the wall
+// treatments in `context` (context.samples, context.support).
+void search_neighbours_and_wall_samples(const ParticleSet& particles, double support, PhaseTimers* timers,
+                                        PhaseTimers::Id search_phase, CellList& cells, NeighbourList& neighbours,
+                                        WallTreatmentSet& walls, WallContext& context, WallSampleList& samples);
+
 // The enabled boundary model among a method's choices; null for a method that runs without one
 // (the scene loader allows that only for a method with no default boundary model).
 const WallTreatmentChoice* boundary_choice(const std::vector<WallTreatmentChoice>& choices);

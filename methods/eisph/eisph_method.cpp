@@ -304,14 +304,8 @@ class EisphMethod final : public Method {
 
   // Neighbours within the kernel support, then the boundary model's wall samples within it.
   void search(const ParticleSet& particles, WallContext& context) {
-    {
-      const auto timed = measure(timers_, search_phase_);
-      cells_.build(particles.position, particles.type, kernel_.support());
-      cells_.find_neighbours(particles.position, particles.type, kernel_.support(), neighbours_);
-    }
-    context.samples = &samples_;
-    context.support = kernel_.support();
-    walls_.build_wall_samples(context, samples_);
+    search_neighbours_and_wall_samples(particles, kernel_.support(), timers_, search_phase_, cells_, neighbours_,
+                                       walls_, context, samples_);
   }
 
   StepReport report(const ParticleSet& particles, const SweepResult& sweep) const {
