@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <stdexcept>
 
+#include "core/io/checkpoint.hpp"
 #include "core/io/scene.hpp"
 #include "core/walls/wall_treatment.hpp"
 
@@ -134,6 +135,19 @@ void search_neighbours_and_wall_samples(const ParticleSet& particles, double sup
   context.samples = &samples;
   context.support = support;
   walls.build_wall_samples(context, samples);
+}
+
+void check_restored_search(CheckpointReader& in, const std::string& method, const NeighbourList& neighbours,
+                           const WallSampleList& samples, const WallTreatmentSet& walls, std::size_t particle_count) {
+  if (neighbours.particle_count() != particle_count) {
+    in.fail(method + " state for " + std::to_string(neighbours.particle_count()) + " particles, the scene has " +
+            std::to_string(particle_count));
+  }
+  if (samples.has_samples() != !walls.wall_particles() ||
+      (samples.has_samples() && samples.offsets.size() != particle_count + 1)) {
+    in.fail(method + " wall samples that do not fit the boundary model " + walls.boundary_name() + " and " +
+            std::to_string(particle_count) + " particles");
+  }
 }
 
 const WallTreatmentChoice* boundary_choice(const std::vector<WallTreatmentChoice>& choices) {

@@ -34,6 +34,8 @@
 
 namespace mps_lab {
 
+class CheckpointReader;  // core/io/checkpoint.hpp
+
 struct Scene;
 
 // The points of a time step where a method calls the wall treatments (WallTreatment below).
@@ -247,6 +249,12 @@ class WallTreatmentSet {
 void search_neighbours_and_wall_samples(const ParticleSet& particles, double support, PhaseTimers* timers,
                                         PhaseTimers::Id search_phase, CellList& cells, NeighbourList& neighbours,
                                         WallTreatmentSet& walls, WallContext& context, WallSampleList& samples);
+
+// A method's restored search state (core/io/checkpoint.hpp) must fit the scene: a neighbour list
+// of `particle_count` particles, and wall samples exactly when the boundary model has no wall
+// particles, with one offset per particle; otherwise `in.fail` names `method` and what does not fit.
+void check_restored_search(CheckpointReader& in, const std::string& method, const NeighbourList& neighbours,
+                           const WallSampleList& samples, const WallTreatmentSet& walls, std::size_t particle_count);
 
 // The enabled boundary model among a method's choices; null for a method that runs without one
 // (the scene loader allows that only for a method with no default boundary model).

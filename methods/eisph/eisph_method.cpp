@@ -158,15 +158,7 @@ class EisphMethod final : public Method {
     read_wall_samples(in, samples_);
     ghosts_ = in.read_size();
     clock_.restore(in);
-    if (neighbours_.particle_count() != acceleration_.size()) {
-      in.fail("eisph state for " + std::to_string(neighbours_.particle_count()) + " particles, the scene has " +
-              std::to_string(acceleration_.size()));
-    }
-    if (samples_.has_samples() != !walls_.wall_particles() ||
-        (samples_.has_samples() && samples_.offsets.size() != acceleration_.size() + 1)) {
-      in.fail("eisph wall samples that do not fit the boundary model " + walls_.boundary_name() + " and " +
-              std::to_string(acceleration_.size()) + " particles");
-    }
+    check_restored_search(in, "eisph", neighbours_, samples_, walls_, acceleration_.size());
   }
 
   // Cell-ordered particles (core/search/cell_order.hpp): what save_state keeps per particle.
