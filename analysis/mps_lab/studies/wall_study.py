@@ -15,8 +15,13 @@ switched off (`--set methods.M.wall_treatments.DEFAULT.enabled=false`, for a sce
 it); the scene's other treatments stay (the MPS clamps, ...). Every
 case runs with stability.on_divergence=continue: a wall penetration is counted, not a stop.
 Scenes: dambreak (scenes/dambreak.json, T = 2 s), hydrostatic (scenes/hydrostatic.json to
-T = 1 s with a frame every 0.05 s), dambreak_obstacle (scenes/dambreak_obstacle.json, T = 2 s);
---quick ends them at 0.4, 0.6 and 0.4 s.
+T = 1 s with a frame every 0.05 s), dambreak_obstacle (scenes/dambreak_obstacle.json, T = 2 s),
+hydrostatic_slope (still water over a 25-degree wedge, scenes/hydrostatic_slope.json, T = 1 s),
+hydrostatic_box (still water around a box on the bed: two convex and two concave corners,
+scenes/hydrostatic_box.json, T = 1 s), dambreak_gate (the dam break with its gate lifted,
+scenes/dambreak_gate.json, T = 0.4 s: a moving obstacle, run by the combinations whose method
+and boundary model declare moving walls; the others are "unsupported", from mps_lab's own
+one-line error); --quick ends them at 0.4, 0.6, 0.4, 0.6, 0.6 and 0.2 s.
 
 Cases run through the case runner (mps_lab/runner.py) --parallel at a time with
 OMP_NUM_THREADS = cores / parallel. A case whose run.json says completed, diverged,
@@ -47,12 +52,20 @@ with an error and no run.json (a combination not supported, a bad key) is record
     sensor_noise_kpa                       RMS of p - (its centred 0.05 s moving average) [kPa]
     sensor_peak_kpa, sensor_peak_time      the largest p and when
     obstacle_noise_kpa                     the same noise at the obstacle_front sensor (obstacle scene)
-  dambreak only (completed cases): front_rms, front_rms_shifted, front_best_shift
-                                           surge front Z against Martin & Moyce (as analysis/compare.py)
+  dambreak and dambreak_gate (completed cases): front_rms, front_rms_shifted, front_best_shift
+                                           surge front Z against Martin & Moyce (as analysis/compare.py;
+                                           the gate's without a shift is the one that counts)
+  hydrostatic_slope and hydrostatic_box, means over t in [0.5, 1.0] of series.csv's sensor columns:
+    sensor_ratios                          "name=ratio ..." per sensor: mean p / (rho g h), h its depth
+                                           below the initial surface (top fluid row + l0/2, frame 0)
+    sensor_ratio_min, sensor_ratio_max     the smallest and largest of them
+    hydro_max_speed, max_speed_run         the largest max |u| in the window and over the whole run [m/s]
 --merge CSV adds the rows of an earlier wall_study.csv (e.g. docs/data/wall_study.csv) for the
 cases not in this study (other methods), so new methods join the tables and the figure
 without running the old cases again.
-<out>/wall_study.md: a markdown table per scene. <out>/wall_study.png: front RMS, wall-sensor
+<out>/wall_study.md: a markdown table per scene. <out>/wall_study_corners.png: the slope's and
+the box's worst sensor ratio, the box's fastest particle, the gate's front RMS (when those scenes
+ran). <out>/wall_study.png: front RMS, wall-sensor
 noise and the hydrostatic wall-pressure ratio per method and boundary model (hatched: the run
 penetrated a wall; a cross: no value, the case failed; a triangle: the run lost more than half
 of its fluid, its value is in the CSV but not drawn).
@@ -75,7 +88,17 @@ SCENES = {  # name: scene file, end time, quick end time, extra overrides
     "dambreak": ("scenes/dambreak.json", 2.0, 0.4, {}),
     "hydrostatic": ("scenes/hydrostatic.json", 1.0, 0.6, {"output.frame_interval": 0.05}),
     "dambreak_obstacle": ("scenes/dambreak_obstacle.json", 2.0, 0.4, {}),
+    "hydrostatic_slope": ("scenes/hydrostatic_slope.json", 1.0, 0.6, {}),
+    "hydrostatic_box": ("scenes/hydrostatic_box.json", 1.0, 0.6, {}),
+    "dambreak_gate": ("scenes/dambreak_gate.json", 0.4, 0.2, {}),
 }
+# Still water read at the scene's pressure sensors (sloped bed, box corners): each sensor's mean
+# over HYDRO_WINDOW against rho g h. Dam breaks whose surge front is compared with Martin & Moyce.
+SENSOR_STILL_SCENES = ("hydrostatic_slope", "hydrostatic_box")
+FRONT_SCENES = ("dambreak", "dambreak_gate")
+# A scene a combination cannot run: mps_lab's one-line error for a moving obstacle with a method
+# or boundary model that does not declare moving walls (core/run/driver.cpp, check_moving_walls).
+UNSUPPORTED = re.compile(r"\.motion: .*expected a (method|boundary model) that does")
 COMMON = {"stability.on_divergence": "continue"}
 DEFAULT_SLOT = "default"  # the method's own boundary model, whichever it is
 
@@ -95,9 +118,9 @@ COLUMNS = ["scene", "method", "boundary_model", "default", "status", "model_in_r
            "penetrations", "escaped", "first_penetration_time", "min_wall_distance_over_l0", "wall_pressure_ratio",
            "dpdy_ratio", "hydro_frames", "hydro_max_speed", "sensor_noise_kpa", "sensor_peak_kpa",
            "sensor_peak_time", "obstacle_noise_kpa", "front_rms", "front_rms_shifted", "front_best_shift",
-           "message", "name"]
+           "sensor_ratios", "sensor_ratio_min", "sensor_ratio_max", "max_speed_run", "message", "name"]
 TEXT_COLUMNS = {"scene", "method", "boundary_model", "default", "status", "model_in_run", "model_reported", "revision",
-                "message", "name"}
+                "sensor_ratios", "message", "name"}
 
 
 # --- the cases -----------------------------------------------------------------------------
@@ -267,6 +290,39 @@ def hydrostatic_metrics(run: data.Run, window: tuple[float, float] = HYDRO_WINDO
             "hydro_max_speed": float(run.series["max_speed"][inside].max()) if inside.any() else math.nan}
 
 
+def initial_surface(run: data.Run) -> float:
+    """y of the initial free surface, m: the top fluid row of the first frame + l0/2."""
+    frames = run.frames()
+    if not frames:
+        raise ValueError("no frame to find the initial surface in")
+    frame = data.read_csv_columns(frames[0][1])
+    fluid = frame["type"] == 0
+    return float(frame["y"][fluid].max()) + 0.5 * float(run.summary["shared"]["particle_spacing"])
+
+
+def sensor_still_metrics(run: data.Run, window: tuple[float, float] = HYDRO_WINDOW) -> dict:
+    """Still water read by the scene's pressure sensors (module docstring): per sensor the mean
+    of its series column over `window` against rho g h, h its depth below the initial surface."""
+    density = float(run.summary["shared"]["density"])
+    surface = initial_surface(run)
+    t = run.series["time"]
+    inside = (t >= window[0] - 1e-9) & (t <= window[1] + 1e-9)
+    sensors = run.summary.get("scene_resolved", {}).get("diagnostics", {}).get("pressure_sensors", [])
+    ratios = {}
+    for sensor in sensors:
+        column = f"pressure_{sensor['name']}"
+        depth = surface - float(sensor["position"][1])
+        if column in run.series and inside.any() and depth > 0:
+            ratios[sensor["name"]] = float(np.mean(run.series[column][inside])) / (density * run.gravity * depth)
+    values = [v for v in ratios.values() if math.isfinite(v)]
+    speed = run.series["max_speed"]
+    return {"sensor_ratios": " ".join(f"{name}={value:.3f}" for name, value in ratios.items()),
+            "sensor_ratio_min": min(values) if values else math.nan,
+            "sensor_ratio_max": max(values) if values else math.nan,
+            "hydro_max_speed": float(speed[inside].max()) if inside.any() else math.nan,
+            "max_speed_run": float(np.nanmax(speed)) if len(speed) else math.nan}
+
+
 def dambreak_metrics(run: data.Run, scene: str, status: str) -> dict:
     row = {}
     t = run.series["time"]
@@ -277,7 +333,7 @@ def dambreak_metrics(run: data.Run, scene: str, status: str) -> dict:
         row["sensor_peak_kpa"], row["sensor_peak_time"] = peak / 1000.0, when
     if "pressure_obstacle_front" in run.series:
         row["obstacle_noise_kpa"] = sensor_noise(t, run.series["pressure_obstacle_front"]) / 1000.0
-    if scene == "dambreak" and status == "completed" and len(t) > 1:
+    if scene in FRONT_SCENES and status == "completed" and len(t) > 1:
         row.update(data.front_errors(run))
     return row
 
@@ -315,6 +371,8 @@ def row_of(case: dict, out: str, boundary_models: list[str]) -> dict:
             row["message"] = lines[-1] if len(lines) > 1 else lines[0]
         except (OSError, IndexError):
             pass
+        if row["status"] == "error" and UNSUPPORTED.search(row.get("message", "")):
+            row["status"] = "unsupported"
         return row
     row["status"] = summary["status"]
     row["message"] = summary.get("message", "")
@@ -337,6 +395,8 @@ def row_of(case: dict, out: str, boundary_models: list[str]) -> dict:
         run = data.load_run(folder)
         if case["scene"] == "hydrostatic":
             row.update(hydrostatic_metrics(run))
+        elif case["scene"] in SENSOR_STILL_SCENES:
+            row.update(sensor_still_metrics(run))
         else:
             row.update(dambreak_metrics(run, case["scene"], row["status"]))
     except (OSError, ValueError, KeyError, IndexError) as error:
@@ -363,7 +423,10 @@ def short_message(message: str, limit: int = 110) -> str:
 
 def markdown(rows: list[dict], quick: bool = False) -> str:
     titles = {"dambreak": "Dam break (scenes/dambreak.json)", "hydrostatic": "Water at rest (scenes/hydrostatic.json)",
-              "dambreak_obstacle": "Dam break with an obstacle (scenes/dambreak_obstacle.json)"}
+              "dambreak_obstacle": "Dam break with an obstacle (scenes/dambreak_obstacle.json)",
+              "hydrostatic_slope": "Water at rest over a 25° slope (scenes/hydrostatic_slope.json)",
+              "hydrostatic_box": "Water at rest around a box: convex and concave corners (scenes/hydrostatic_box.json)",
+              "dambreak_gate": "Dam break with the gate lifted (scenes/dambreak_gate.json, T = 0.4 s)"}
     lines = ["# Wall study: boundary models per method", "",
              "Generated by `analysis/wall_study.py`" + (" with --quick (short end times)" if quick else "") +
              ". Penetrations: stability-monitor penetration events (escape events in brackets); "
@@ -372,12 +435,18 @@ def markdown(rows: list[dict], quick: bool = False) -> str:
              "p/ρgh: bottom-row fluid pressure over ρg(y_top − y), mean over t in [0.5, 1] s; "
              "dp/dy: fitted slope over −ρg; noise: RMS of the right-wall sensor pressure minus its "
              "0.05 s moving average on t in [0.3, 2] s; peak: its largest value; front RMS: surge front Z "
-             "against Martin & Moyce (completed runs). (d): the method's default boundary model.", ""]
+             "against Martin & Moyce (completed runs; the gate's unshifted). Sensors p/ρgh (slope, box): each "
+             "pressure sensor's mean over t in [0.5, 1] s over ρ g h, h its depth below the initial surface; "
+             "max |u|: the fastest particle in that window and (after the slash) over the whole run. "
+             "unsupported: mps_lab refuses the combination (a moving gate needs a method and a boundary model "
+             "that declare moving walls). (d): the method's default boundary model.", ""]
     for scene in dict.fromkeys(r["scene"] for r in rows):
         mine = [r for r in rows if r["scene"] == scene]
         if scene == "hydrostatic":
             extra = ["p/ρgh", "dp/dy"]
-        elif scene == "dambreak":
+        elif scene in SENSOR_STILL_SCENES:
+            extra = ["sensors p/ρgh", "max |u| [m/s]"]
+        elif scene in FRONT_SCENES:
             extra = ["noise [kPa]", "peak [kPa]", "front RMS"]
         else:
             extra = ["noise [kPa]", "obstacle noise [kPa]", "peak [kPa]"]
@@ -387,14 +456,20 @@ def markdown(rows: list[dict], quick: bool = False) -> str:
         for r in mine:
             if scene == "hydrostatic":
                 values = [number(r.get("wall_pressure_ratio"), ".3f"), number(r.get("dpdy_ratio"), ".3f")]
-            elif scene == "dambreak":
+            elif scene in SENSOR_STILL_SCENES:
+                values = [r.get("sensor_ratios") or "–",
+                          number(r.get("hydro_max_speed"), ".2f") + " / " + number(r.get("max_speed_run"), ".2f")]
+            elif scene in FRONT_SCENES:
                 values = [number(r.get("sensor_noise_kpa"), ".2f"), number(r.get("sensor_peak_kpa"), ".1f"),
                           number(r.get("front_rms"), ".3f")]
             else:
                 values = [number(r.get("sensor_noise_kpa"), ".2f"), number(r.get("obstacle_noise_kpa"), ".2f"),
                           number(r.get("sensor_peak_kpa"), ".1f")]
-            penetrations = "–" if r.get("penetrations", "") == "" else f"{r['penetrations']} ({r.get('escaped', 0)})"
+            penetrations = (f"{r['penetrations']} ({r.get('escaped', 0)})" if number(r.get("penetrations"), ".0f") != "–"
+                            else "–")  # none: the case did not run (a merged row reads NaN)
             status = r["status"] if r["status"] in FINISHED else f"{r['status']}: {short_message(r.get('message', ''))}"
+            if r["status"] == "unsupported":  # "walls.obstacles[k].motion: the boundary model X does not move walls; ..."
+                status = "unsupported: " + re.sub(r"^.*\.motion: ", "", r.get("message", "")).split(";")[0]
             lines.append("| " + " | ".join([r["method"], r["boundary_model"] + (" (d)" if r["default"] else ""),
                                              status, penetrations, number(r.get("ghost_final"), ".0f"),
                                              number(r.get("min_wall_distance_over_l0"), ".2f"),
@@ -499,6 +574,58 @@ def plot(rows: list[dict], path: str) -> None:
     plt.close(fig)
 
 
+def worst_sensor_ratio(row: dict) -> float:
+    """Of a row's smallest and largest sensor ratio, the one farther from 1 (nan without)."""
+    try:
+        low, high = float(row.get("sensor_ratio_min", "nan")), float(row.get("sensor_ratio_max", "nan"))
+    except (TypeError, ValueError):
+        return math.nan
+    if not (math.isfinite(low) and math.isfinite(high)):
+        return math.nan
+    return low if abs(low - 1.0) > abs(high - 1.0) else high
+
+
+def plot_corners(rows: list[dict], path: str) -> bool:
+    """wall_study_corners.png: the sloped bed's and the box's worst sensor ratio, the box's
+    fastest particle over the run and the gate's unshifted front RMS, per method and model.
+    False (nothing drawn) when the rows have none of those scenes."""
+    scenes = ("hydrostatic_slope", "hydrostatic_box", "dambreak_gate")
+    mine = [dict(r, sensor_ratio_worst=worst_sensor_ratio(r)) for r in rows if r["scene"] in scenes]
+    if not mine:
+        return False
+    from .. import figures  # noqa: F401  (sets the shared style)
+    import matplotlib.pyplot as plt
+    from matplotlib.patches import Patch
+
+    layout = bar_layout(mine)
+    _, defaults, slots, colours = layout
+    panels = [("hydrostatic_slope", "sensor_ratio_worst", "worst sensor p / ρgh, t in [0.5, 1] s", "Still water, 25° slope"),
+              ("hydrostatic_box", "sensor_ratio_worst", "worst sensor p / ρgh, t in [0.5, 1] s", "Still water, box corners"),
+              ("hydrostatic_box", "max_speed_run", "fastest particle over the run [m/s]", "Box corners: stillness"),
+              ("dambreak_gate", "front_rms", "front RMS against Martin & Moyce, no shift", "Gate lifted (T = 0.4 s)")]
+    fig, axes = plt.subplots(1, len(panels), figsize=(20.0, 5.0))
+    for ax, (scene, key, ylabel, title) in zip(axes, panels):
+        draw_panel(ax, mine, [scene], key, layout)
+        ax.set_ylabel(ylabel)
+        ax.set_title(title)
+        if key == "sensor_ratio_worst":
+            ax.axhline(1.0, color="k", linestyle="--", linewidth=1.0)
+    own = ", ".join(f"{method}: {model}" for method, model in defaults.items())
+    handles = [Patch(facecolor=colours[s], edgecolor="k", label=f"default ({own})" if s == DEFAULT_SLOT else s)
+               for s in slots]
+    handles += [Patch(facecolor="white", edgecolor="k", hatch="///", label="the run penetrated a wall"),
+                plt.Line2D([], [], marker="x", color="tab:red", linestyle="none",
+                           label="no value (failed, unsupported or not run)"),
+                plt.Line2D([], [], marker="v", color="tab:red", linestyle="none",
+                           label="no bar: the run lost most of its fluid (value in wall_study.csv)")]
+    fig.legend(handles=handles, loc="lower center", ncol=3, fontsize=9, frameon=False)
+    fig.suptitle("Slopes, corners and the gate per method and boundary model (analysis/wall_study.py)")
+    fig.tight_layout(rect=(0, 0.12, 1, 1))
+    fig.savefig(path)
+    plt.close(fig)
+    return True
+
+
 # --- main ----------------------------------------------------------------------------------
 
 def choose(catalogue: dict[str, methods.MethodInfo], chosen: list[str] | None,
@@ -555,4 +682,5 @@ def wall_study(out: str, binary: str | None = None, chosen: list[str] | None = N
           f"{os.path.join(out, 'wall_study.csv')}")
     if plots and rows:
         plot(rows, os.path.join(out, "wall_study.png"))
+        plot_corners(rows, os.path.join(out, "wall_study_corners.png"))
     return 0
