@@ -5,8 +5,8 @@
 //   x_j' = x_j - 2 d_j n      (d_j: distance to the surface, n: its normal into the fluid),
 // and, where j is near two perpendicular surfaces meeting at a concave corner, the image
 // through the corner, x_j'' = 2 c - x_j. An image counts only where it lies inside the solid,
-// and a face image only where that face is the surface it lies nearest behind (one image per
-// point of the solid at a convex corner or in a thin solid; MirrorParticles::add_face_images). A fluid
+// and a face image not where another face owns the point and fills it (one image per point of
+// the solid at a convex corner or in a thin solid; MirrorParticles::add_face_images). A fluid
 // particle i then sees the images within its support as wall samples that carry the pressure
 // and velocity of their original:
 //   p_j' = p_j + rho0 g . (x_j' - x_j)         (hydrostatic extrapolation across the wall)
@@ -192,8 +192,8 @@ class MirrorParticles final : public WallSampleModel {
   }
 
   // The images of x across each surface it is near (distance[s] > 0: its distance to surface
-  // s, m; else -1). An image counts where it lies inside the solid AND surface s is the
-  // surface it lies nearest behind (owner_of): at a convex corner (a box's top corners, a
+  // s, m; else -1). An image counts where it lies inside the solid and no other face owns and
+  // fills it (filled_by_another_face): at a convex corner (a box's top corners, a
   // wedge's crest) the solid near the vertex lies behind both faces, and without the owner
   // rule the images of the fluid above the top face and of the fluid beside the side face
   // both filled it (twice the wall's number density there, a coincident pair on the
