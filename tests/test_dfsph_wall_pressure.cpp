@@ -43,8 +43,7 @@ struct Bed {
     for (const Vec2& f : fluid) particles.add(kL0 * f, Vec2::Zero(), ParticleType::Fluid);
     neighbours = find_neighbours(particles.position, particles.type, kernel.support());
     compute_kernel_cache(particles, neighbours, kernel, cache);
-    compute_boundary_masses(particles, neighbours, cache, 1, kRho0, BoundaryVolume::Lattice, kL0 * kL0,
-                            boundary_mass);
+    compute_boundary_masses(particles, neighbours, cache, 1, kRho0, BoundaryVolume::Lattice, kL0 * kL0, boundary_mass);
     compute_kernel_cache(particles, neighbours, kernel, kMass, boundary_mass, cache);
     density.assign(particles.size(), 0.0);
     for (std::size_t i = walls.size(); i < particles.size(); ++i) density[i] = rho;
@@ -208,9 +207,9 @@ TEST_CASE("DFSPH extrapolated wall pressure: still water reads rho g h at the wa
   for (const auto* wall : registries().walls.all()) {
     if (wall->role != WallTreatmentRole::Boundary || !wall_treatment_supports(*wall, dfsph)) continue;
     INFO("boundary model " << wall->name);
-    const Scene scene = load("hydrostatic.json", {"methods.dfsph.wall_treatments={\"" + wall->name + "\":{}}",
-                                                  "methods.dfsph.wall_pressure=\"extrapolated\"", sensors,
-                                                  "time.end_time=1.5"});
+    const Scene scene =
+        load("hydrostatic.json", {"methods.dfsph.wall_treatments={\"" + wall->name + "\":{}}",
+                                  "methods.dfsph.wall_pressure=\"extrapolated\"", sensors, "time.end_time=1.5"});
     Simulation simulation(scene, dfsph);
     simulation.run_to(0.5);
     simulation.pressure_sensors().take_row(simulation.particles());
