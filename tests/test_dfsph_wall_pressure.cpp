@@ -101,6 +101,62 @@ TEST_CASE("DFSPH extrapolated wall pressure: Shepard weights and the hydrostatic
         Approx(1000.0 / (kRho0 * kRho0)).epsilon(1e-13));
 }
 
+TEST_CASE("DFSPH extrapolated wall pressure: a wall sample at rest extrapolates from its owner and its neighbours",
+          "[dfsph][operators][unit]") {
+  // Fluid at (-1, 1), (0, 1), (1, 1) l0, rho_f = 1010 kg/m^3, no wall particles. Particle (0, 1)
+  // has two wall samples: w0 at (0, 0) at rest carrying its own pressure (source = owner,
+  // velocity map 0: dummy layers, distance function) and w1 at (0, -0.5) l0, a mirror image
+  // (velocity map diag(1, -1)). w0's row: the owner and its fluid neighbours, W(|x_w - x_f|) =
+  // W(l0) for the owner and W(sqrt2 l0) for each neighbour; hydrostatic part rho_f g l0 / rho0^2.
+  // w1 has no row (its source's stiffness enters through the constraint).
+  Bed bed({}, {{-1, 1}, {0, 1}, {1, 1}}, 1010.0);
+  WallSampleList samples;
+  samples.offsets = {0, 0, 2, 2};
+  WallSample rest;
+  rest.position = Vec2(0.0, 0.0);
+  rest.source = 1;
+  WallSample image = rest;
+  image.position = Vec2(0.0, -0.5 * kL0);
+  image.velocity_map << 1.0, 0.0, 0.0, -1.0;
+  samples.samples = {rest, image};
+  SampleCache sample_cache;
+  compute_sample_cache(bed.particles, samples, bed.kernel, kRho0, kL0 * kL0, sample_cache);
+  SphSystem system = bed.system(true);
+  system.samples = &samples;
+  system.sample_kernel = &sample_cache;
+  compute_wall_pressure_stencil(bed.particles, system, bed.kernel, bed.density, Vec2(0.0, -kG), bed.stencil);
+  const WallPressureStencil& s = bed.stencil;
+  CHECK(s.boundary.empty());
+  REQUIRE(s.sample_offsets.size() == 3);
+  REQUIRE(s.sample_offsets[1] - s.sample_offsets[0] == 3);
+  CHECK(s.sample_offsets[2] == s.sample_offsets[1]);  // the mirror image: no row
+  const double w1 = bed.kernel.value(kL0), w2 = bed.kernel.value(std::sqrt(2.0) * kL0);
+  CHECK(s.sample_fluid[0] == 1);  // the owner first
+  CHECK(s.sample_weight[0] == Approx(w1 / (w1 + 2.0 * w2)).epsilon(1e-14));
+  CHECK(s.sample_weight[1] == Approx(w2 / (w1 + 2.0 * w2)).epsilon(1e-14));
+  CHECK(s.sample_hydrostatic[0] == Approx(1010.0 * kG * kL0 / (kRho0 * kRho0)).epsilon(1e-14));
+  CHECK(s.sample_hydrostatic[1] == 0.0);
+  // p_f = 1000 + 200 x/l0 Pa: p_w = 1000 Pa (odd part cancels); the image: 0.
+  std::vector<double> s_f(3);
+  for (std::size_t f = 0; f < 3; ++f) {
+    s_f[f] = (1000.0 + 200.0 * bed.particles.position[f].x() / kL0) / (1010.0 * 1010.0);
+  }
+  CHECK(extrapolated_sample_stiffness(s, 0, s_f.data(), bed.density, kRho0) ==
+        Approx(1000.0 / (kRho0 * kRho0)).epsilon(1e-13));
+  CHECK(extrapolated_sample_stiffness(s, 1, s_f.data(), bed.density, kRho0) == 0.0);
+  // The explicit hydrostatic part on the owner: -Psi_w s_hyd grad W_iw for w0, and for the
+  // image max(0, rho0 g.(x_w - x_s)) / rho0^2 = rho0 g 1.5 l0 / rho0^2.
+  std::vector<Vec2> acceleration(3, Vec2::Zero());
+  add_wall_hydrostatic_acceleration(bed.particles, system, Vec2(0.0, -kG), acceleration);
+  const Vec2 x = bed.particles.position[1];
+  const Vec2 expected = -kRho0 * kL0 * kL0 *
+                        (s.sample_hydrostatic[0] * bed.kernel.gradient(x - rest.position) +
+                         kG * 1.5 * kL0 / kRho0 * bed.kernel.gradient(x - image.position));
+  CHECK(acceleration[1].x() == Approx(expected.x()).margin(1e-12));
+  CHECK(acceleration[1].y() == Approx(expected.y()).epsilon(1e-12));
+  CHECK(acceleration[0] == Vec2::Zero());
+}
+
 TEST_CASE("DFSPH extrapolated wall pressure: one density iteration applies the symmetric wall term",
           "[dfsph][solver][unit]") {
   // One fluid particle i at (0, 1) l0 above one boundary particle b at (0, 0), rho_i = 1.01 rho0,
