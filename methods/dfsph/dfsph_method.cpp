@@ -16,7 +16,10 @@
 // wall-particle model AkinciMirrored, whose layers and volume rule this method reads from its
 // WallParticleModel), or wall samples (dummy_layers, mirror_particles,
 // distance_function) rebuilt right after every neighbour search and summed in every operator
-// like boundary particles (methods/dfsph/dfsph_operators.hpp). Decisions where the papers
+// like boundary particles (methods/dfsph/dfsph_operators.hpp). The wall's pressure in the
+// pressure force (methods.dfsph.wall_pressure): mirrored from the fluid particle ([AIA12], the
+// default) or extrapolated from the fluid (Adami et al. 2012 eq. (27), after step 2; its
+// hydrostatic part with the non-pressure forces, step 4). Decisions where the papers
 // leave a choice are listed in docs/methods/dfsph.md.
 #include <algorithm>
 #include <cmath>
@@ -592,7 +595,7 @@ void mps_lab_register_method_dfsph(mps_lab::MethodRegistry& registry) {
       string_parameter("wall_pressure", "mirrored",
                        "the wall's pressure in the pressure force: mirrored (Akinci et al. 2012: the fluid "
                        "particle's own, once) or extrapolated (Adami et al. 2012 eq. 27 with the hydrostatic term, "
-                       "in the symmetric force of Band et al. 2018)")
+                       "in the symmetric force of Band et al. 2018; docs/methods/dfsph.md 'At the walls')")
           .one_of({"extrapolated", "mirrored"}),
       boolean_parameter("wall_sample_hydrostatic", false,
                         "wall samples (boundary models without wall particles): add the hydrostatic part "
