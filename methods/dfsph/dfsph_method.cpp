@@ -16,7 +16,10 @@
 // wall-particle model AkinciMirrored, whose layers and volume rule this method reads from its
 // WallParticleModel), or wall samples (dummy_layers, mirror_particles,
 // distance_function) rebuilt right after every neighbour search and summed in every operator
-// like boundary particles (methods/dfsph/dfsph_operators.hpp). Decisions where the papers
+// like boundary particles (methods/dfsph/dfsph_operators.hpp). The wall's pressure in the
+// pressure force (methods.dfsph.wall_pressure): mirrored from the fluid particle ([AIA12], the
+// default) or extrapolated from the fluid (Adami et al. 2012 eq. (27), after step 2; its
+// hydrostatic part with the non-pressure forces, step 4). Decisions where the papers
 // leave a choice are listed in docs/methods/dfsph.md.
 #include <algorithm>
 #include <cmath>
@@ -119,6 +122,7 @@ class DfsphMethod final : public Method {
     divergence_min_neighbours_ = static_cast<std::uint32_t>(
         std::ceil(p.number("divergence_neighbour_fraction") * static_cast<double>(full_neighbour_count_) - 1e-9));
     sample_hydrostatic_ = p.boolean("wall_sample_hydrostatic");
+    wall_pressure_ = wall_pressure_from_name(p.string("wall_pressure"));
     hydrostatic_start_ = p.string("initial_stiffness") == "hydrostatic";
     if (const WallParticleModel* model = walls_.wall_particle_model()) {  // akinci_boundary
       if (model->pressure() != WallParticlePressure::AkinciMirrored) {
@@ -135,6 +139,11 @@ class DfsphMethod final : public Method {
     }
 
     const std::string block = "methods.dfsph.";
+    if (sample_hydrostatic_ && wall_pressure_ == WallPressure::Extrapolated) {
+      throw_input_error(scene_.source, block + "wall_sample_hydrostatic",
+                        "got true, expected false with wall_pressure \"extrapolated\" (which includes the "
+                        "hydrostatic part of the wall pressure)");
+    }
     for (const auto* prefix : {"density", "divergence"}) {
       const SolverSettings& s = std::string(prefix) == "density" ? density_settings_ : divergence_settings_;
       if (s.min_iterations > s.max_iterations) {
@@ -221,6 +230,7 @@ class DfsphMethod final : public Method {
         {"lattice_neighbours", full_neighbour_count_},
         {"divergence_min_neighbours", divergence_min_neighbours_},
         {"boundary_model", walls_.boundary_name()},
+        {"wall_pressure", wall_pressure_ == WallPressure::Extrapolated ? "extrapolated" : "mirrored"},
         {"time_step", clock_.summary(time_step_settings_)},
         {"density_solver", density_totals_.to_json()},
         {"divergence_solver", divergence_totals_.to_json()},
@@ -306,6 +316,9 @@ class DfsphMethod final : public Method {
       compute_densities(particles, sph, density);
       compute_dfsph_factors(particles, sph, density, alpha);
       compression = mean_compression(particles, density);
+      if (wall_pressure_ == WallPressure::Extrapolated) {
+        compute_wall_pressure_stencil(particles, sph, kernel_, density, scene_.physics.gravity, wall_stencil_);
+      }
     }
     return compression;
   }
@@ -343,6 +356,9 @@ class DfsphMethod final : public Method {
                                  acceleration_);
       }
       if (sample_hydrostatic_) add_sample_hydrostatic_acceleration(particles, sph, density, gravity, acceleration_);
+      if (wall_pressure_ == WallPressure::Extrapolated) {
+        add_wall_hydrostatic_acceleration(particles, sph, gravity, acceleration_);
+      }
     }
   }
 
@@ -439,7 +455,8 @@ class DfsphMethod final : public Method {
   }
 
   SphSystem system() const {
-    return {neighbours_, cache_, boundary_mass_, particle_mass_, rest_density_, &samples_, &sample_cache_};
+    const WallPressureStencil* stencil = wall_pressure_ == WallPressure::Extrapolated ? &wall_stencil_ : nullptr;
+    return {neighbours_, cache_, boundary_mass_, particle_mass_, rest_density_, &samples_, &sample_cache_, stencil};
   }
 
   // The boundary model's wall samples for the fresh neighbour list (none for a model of wall
@@ -504,6 +521,7 @@ class DfsphMethod final : public Method {
   int boundary_wall_layers_ = 3;
   BoundaryVolume boundary_volume_ = BoundaryVolume::Akinci;
   bool sample_hydrostatic_ = false;
+  WallPressure wall_pressure_ = WallPressure::Mirrored;
   bool hydrostatic_start_ = false;  // initial_stiffness = hydrostatic
 
   CellList cells_;
@@ -511,6 +529,7 @@ class DfsphMethod final : public Method {
   KernelCache cache_;
   WallSampleList samples_;  // wall samples of this step (boundary models without wall particles)
   SampleCache sample_cache_;
+  WallPressureStencil wall_stencil_;          // wall_pressure = extrapolated: this step's boundary extrapolation
   std::vector<double> boundary_mass_;         // Psi_b, kg/m
   std::vector<double> density_stiffness_;     // kappa_i of the density solver, m^2/s^2
   std::vector<double> divergence_stiffness_;  // kappa^v_i of the divergence solver, m^2/s^2
@@ -573,6 +592,11 @@ void mps_lab_register_method_dfsph(mps_lab::MethodRegistry& registry) {
                        "the density solver's stiffness before the first step: zero (cold start) or hydrostatic (|g| "
                        "times the depth below the nearest free surface, applied in full by the first solve)")
           .one_of({"hydrostatic", "zero"}),
+      string_parameter("wall_pressure", "mirrored",
+                       "the wall's pressure in the pressure force: mirrored (Akinci et al. 2012: the fluid "
+                       "particle's own, once) or extrapolated (Adami et al. 2012 eq. 27 with the hydrostatic term, "
+                       "in the symmetric force of Band et al. 2018; docs/methods/dfsph.md 'At the walls')")
+          .one_of({"extrapolated", "mirrored"}),
       boolean_parameter("wall_sample_hydrostatic", false,
                         "wall samples (boundary models without wall particles): add the hydrostatic part "
                         "rho0 g.(x_w - x_s) of their pressure as an explicit force (measured harmful)"),

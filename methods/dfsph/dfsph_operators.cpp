@@ -301,6 +301,21 @@ void compute_boundary_pressures(ParticleSet& particles, const SphSystem& system,
   const auto& list = system.neighbours;
   const double m = system.particle_mass;
   const auto n = static_cast<std::ptrdiff_t>(particles.size());
+  // wall_pressure = extrapolated: the boundary particle's own s_b = p_b / rho0^2 ([AHA12] eq. (27))
+  // enters the reaction as it entered the solvers' symmetric wall term; 0 for mirrored.
+  std::vector<double> wall_s(particles.size(), 0.0);
+  if (system.wall_pressure != nullptr) {
+    const WallPressureStencil& stencil = *system.wall_pressure;
+    const double rho0 = system.rest_density;
+    for (std::size_t r = 0; r < stencil.boundary.size(); ++r) {
+      const std::uint32_t b = stencil.boundary[r];
+      double pressure = 0.0;  // sum_f weight_bf p_f, Pa
+      for (std::uint32_t k = stencil.offsets[r]; k < stencil.offsets[r + 1]; ++k) {
+        pressure += stencil.weight[k] * particles.pressure[stencil.fluid[k]];
+      }
+      wall_s[b] = pressure / (rho0 * rho0) + stencil.hydrostatic[b];
+    }
+  }
 #pragma omp parallel for schedule(static) if (n >= kThreadedLoopMinimum)
   for (std::ptrdiff_t b = 0; b < n; ++b) {
     if (particles.type[b] != ParticleType::Wall) continue;
@@ -311,7 +326,7 @@ void compute_boundary_pressures(ParticleSet& particles, const SphSystem& system,
         // Reaction to the boundary term of the solvers' pressure correction on f:
         // m Psi_b (p_f / rho_f^2) grad_f W_fb, and grad_f W_fb = -grad_b W_bf (evaluated here:
         // the step's kernel cache holds the rows of fluid particles only).
-        const double s_f = particles.pressure[f] / (density[f] * density[f]);
+        const double s_f = particles.pressure[f] / (density[f] * density[f]) + wall_s[b];
         force -= m * system.boundary_mass[b] * s_f * kernel.gradient(particles.position[b] - particles.position[f]);
       });
     }
@@ -362,6 +377,126 @@ void add_sample_hydrostatic_acceleration(const ParticleSet& particles, const Sph
       sum -= w.mass[k] * offset / (rho_s * rho_s) * w.gradient[k];
     });
     acceleration[i] += sum;
+  }
+}
+
+WallPressure wall_pressure_from_name(const std::string& name) {
+  if (name == "mirrored") return WallPressure::Mirrored;
+  if (name == "extrapolated") return WallPressure::Extrapolated;
+  throw std::invalid_argument("unknown wall pressure '" + name + "' (expected mirrored or extrapolated)");
+}
+
+namespace {
+
+// The rows of the wall samples at rest that carry their owner's pressure (WallPressureStencil):
+// [AHA12] eq. (27) at x_w over the owner i and its fluid neighbours.
+void compute_sample_stencil(const ParticleSet& particles, const SphSystem& system, const SphKernel& kernel,
+                            const std::vector<double>& density, const Vec2& gravity, WallPressureStencil& stencil) {
+  stencil.sample_offsets.clear();
+  stencil.sample_fluid.clear();
+  stencil.sample_weight.clear();
+  stencil.sample_hydrostatic.clear();
+  if (!system.has_samples()) return;
+  const WallSampleList& samples = *system.samples;
+  const double rho0 = system.rest_density;
+  stencil.sample_offsets.assign(samples.samples.size() + 1, 0);
+  stencil.sample_hydrostatic.assign(samples.samples.size(), 0.0);
+  for (std::size_t i = 0; i < particles.size(); ++i) {
+    if (particles.type[i] != ParticleType::Fluid) continue;
+    for_each_neighbour(samples, i, [&](std::uint32_t q, const WallSample& wall) {
+      const std::size_t first = stencil.sample_fluid.size();
+      if (is_resting_own_sample(wall, static_cast<std::uint32_t>(i))) {
+        double weight_sum = 0.0, offset = 0.0;  // 1/m^2, Pa/m^2
+        const auto add = [&](std::uint32_t f) {
+          const Vec2 r_wf = wall.position - particles.position[f];
+          const double w = kernel.value(r_wf.norm());
+          if (w <= 0.0) return;
+          stencil.sample_fluid.push_back(f);
+          stencil.sample_weight.push_back(w);
+          weight_sum += w;
+          offset += density[f] * gravity.dot(r_wf) * w;  // [AHA12] eq. (27), a_w = 0
+        };
+        add(static_cast<std::uint32_t>(i));
+        for_each_neighbour(system.neighbours, i, [&](std::uint32_t f) {
+          if (particles.type[f] == ParticleType::Fluid) add(f);
+        });
+        for (std::size_t k = first; k < stencil.sample_fluid.size(); ++k) stencil.sample_weight[k] /= weight_sum;
+        if (weight_sum > 0.0) stencil.sample_hydrostatic[q] = std::max(offset / weight_sum, 0.0) / (rho0 * rho0);
+      }
+      stencil.sample_offsets[q + 1] = static_cast<std::uint32_t>(stencil.sample_fluid.size());
+    });
+  }
+}
+
+}  // namespace
+
+void compute_wall_pressure_stencil(const ParticleSet& particles, const SphSystem& system, const SphKernel& kernel,
+                                   const std::vector<double>& density, const Vec2& gravity,
+                                   WallPressureStencil& stencil) {
+  const auto& list = system.neighbours;
+  const double rho0 = system.rest_density;
+  stencil.boundary.clear();
+  stencil.offsets.assign(1, 0);
+  stencil.fluid.clear();
+  stencil.weight.clear();
+  stencil.hydrostatic.assign(particles.size(), 0.0);
+  for (std::size_t b = 0; b < particles.size(); ++b) {
+    if (!is_boundary(particles, system, b)) continue;
+    const std::size_t first = stencil.fluid.size();
+    double weight_sum = 0.0;  // sum_f W_bf, 1/m^2
+    double offset = 0.0;      // sum_f rho_f g.(x_b - x_f) W_bf, Pa/m^2
+    for_each_neighbour(list, b, [&](std::uint32_t f) {
+      if (particles.type[f] != ParticleType::Fluid) return;
+      const Vec2 r_bf = particles.position[b] - particles.position[f];
+      const double w = kernel.value(r_bf.norm());
+      if (w <= 0.0) return;
+      stencil.fluid.push_back(f);
+      stencil.weight.push_back(w);
+      weight_sum += w;
+      offset += density[f] * gravity.dot(r_bf) * w;  // [AHA12] eq. (27), a_b = 0
+    });
+    if (weight_sum <= 0.0) continue;
+    for (std::size_t k = first; k < stencil.fluid.size(); ++k) stencil.weight[k] /= weight_sum;
+    // A wall point above its fluid (near the free surface on a side wall) would get a negative
+    // hydrostatic part and pull the fluid onto the wall: clamped at 0, as the pressures are.
+    stencil.hydrostatic[b] = std::max(offset / weight_sum, 0.0) / (rho0 * rho0);
+    stencil.boundary.push_back(static_cast<std::uint32_t>(b));
+    stencil.offsets.push_back(static_cast<std::uint32_t>(stencil.fluid.size()));
+  }
+  compute_sample_stencil(particles, system, kernel, density, gravity, stencil);
+}
+
+void add_wall_hydrostatic_acceleration(const ParticleSet& particles, const SphSystem& system, const Vec2& gravity,
+                                       std::vector<Vec2>& acceleration) {
+  const auto& list = system.neighbours;
+  const double rho0 = system.rest_density;
+  const WallPressureStencil* stencil = system.wall_pressure;
+  const auto n = static_cast<std::ptrdiff_t>(particles.size());
+#pragma omp parallel for schedule(static) if (n >= kThreadedLoopMinimum)
+  for (std::ptrdiff_t i = 0; i < n; ++i) {
+    if (particles.type[i] != ParticleType::Fluid) continue;
+    Vec2 sum = Vec2::Zero();  // sum Psi s_hyd grad W, m/s^2
+    if (stencil != nullptr) {
+      for_each_neighbour(list, i, [&](std::uint32_t k, std::uint32_t j) {
+        if (is_boundary(particles, system, j))
+          sum += system.boundary_mass[j] * stencil->hydrostatic[j] * system.kernel.gradient[k];
+      });
+    }
+    if (system.has_samples()) {
+      const auto& w = *system.sample_kernel;
+      for_each_neighbour(*system.samples, i, [&](std::uint32_t k, const WallSample& sample) {
+        double s_hyd = 0.0;  // m^5/(kg s^2)
+        if (stencil != nullptr && stencil->sample_offsets[k + 1] > stencil->sample_offsets[k]) {
+          s_hyd = stencil->sample_hydrostatic[k];  // a wall point at rest: [AHA12] eq. (27)
+        } else {
+          // a mirror image: p_w - p_s = rho0 g.(x_w - x_s) (core/walls/wall_samples.hpp), over
+          // rho_w^2 = rho0^2, clamped at 0 as the boundary particles' part
+          s_hyd = std::max(sample_pressure_offset(sample, particles.position, rho0, gravity), 0.0) / (rho0 * rho0);
+        }
+        sum += w.mass[k] * s_hyd * w.gradient[k];
+      });
+    }
+    acceleration[i] -= sum;  // [BGI18]: the wall's own pressure in the symmetric force
   }
 }
 

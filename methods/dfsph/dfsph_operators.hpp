@@ -8,6 +8,12 @@
 //           Equation numbers are the TVCG paper's, as the authors' SPlisHSPlasH cites them.
 //   [AIA12] N. Akinci, M. Ihmsen, G. Akinci, B. Solenthaler, M. Teschner, "Versatile
 //           rigid-fluid coupling for incompressible SPH", ACM TOG 31(4) 62 (SIGGRAPH 2012).
+//   [AHA12] S. Adami, X. Y. Hu, N. A. Adams, "A generalized wall boundary condition for smoothed
+//           particle hydrodynamics", J. Comput. Phys. 231, 7057-7075 (2012): the wall pressure
+//           extrapolated from the fluid with the hydrostatic term, eq. (27).
+//   [BGI18] S. Band, C. Gissler, M. Ihmsen, J. Cornelis, A. Peer, M. Teschner, "Pressure
+//           boundaries for implicit incompressible SPH", ACM TOG 37(2) 14 (2018): boundary
+//           samples with a pressure of their own in the symmetric pressure force.
 //   [MFZ97] J. P. Morris, P. J. Fox, Y. Zhu, "Modeling low Reynolds number incompressible
 //           flows using SPH", J. Comput. Phys. 136, 214-226 (1997).
 //
@@ -75,6 +81,8 @@ struct SampleCache {
   std::vector<std::uint32_t> by_source;
 };
 
+struct WallPressureStencil;
+
 // Everything an operator reads besides the particles: one bundle per step.
 struct SphSystem {
   const NeighbourList& neighbours;
@@ -86,9 +94,93 @@ struct SphSystem {
   // for a boundary model of wall particles: then the sample sums are skipped.
   const WallSampleList* samples = nullptr;
   const SampleCache* sample_kernel = nullptr;
+  // wall_pressure = extrapolated: the boundary particles' Shepard weights of this step; null
+  // for wall_pressure = mirrored.
+  const WallPressureStencil* wall_pressure = nullptr;
 
   bool has_samples() const { return samples != nullptr && sample_kernel != nullptr && samples->has_samples(); }
 };
+
+// How the wall's pressure enters the pressure force (methods.dfsph.wall_pressure,
+// docs/methods/dfsph.md "At the walls"). s = p / rho^2 = kappa / rho (m^5/(kg s^2)).
+enum class WallPressure {
+  // [AIA12] and the authors' code: a boundary particle b (or wall sample at rest) takes the
+  // pressure of the fluid particle i it acts on, once: a_i -= Psi_b s_i grad W_ib.
+  Mirrored,
+  // [BGI18]: the wall has a pressure p_b of its own, extrapolated from the fluid ([AHA12] eq. (27)
+  // with a_b = 0), in the symmetric force a_i -= Psi_b (s_i + p_b / rho0^2) grad W_ib:
+  //   boundary particle b:  p_b = sum_f [p_f + rho_f g.(x_b - x_f)] W_bf / sum_f W_bf (fluid f near b)
+  //   wall sample w at rest (source i): the same sum over i and its fluid neighbours f
+  //   mirror image w of a fluid particle: as Mirrored (its source's pressure already enters
+  //   both ways through the constraint), plus the hydrostatic part rho0 g.(x_w - x_s).
+  // The part of p_b linear in the fluid's stiffness enters every solver iteration; the
+  // hydrostatic part is an explicit acceleration (add_wall_hydrostatic_acceleration).
+  Extrapolated,
+};
+WallPressure wall_pressure_from_name(const std::string& name);  // "mirrored" | "extrapolated"
+
+// The boundary particles' extrapolation weights of one step (WallPressure::Extrapolated):
+// rows of the boundary particles that have fluid within the support, in index order.
+struct WallPressureStencil {
+  std::vector<std::uint32_t> boundary;  // b
+  std::vector<std::uint32_t> offsets;   // the fluid of row r: [offsets[r], offsets[r + 1])
+  std::vector<std::uint32_t> fluid;     // f
+  std::vector<double> weight;           // W_bf / sum_f W_bf ([AHA12] eq. (27): Shepard weights)
+  // Per particle (0 but for the rows' b): the hydrostatic part of s_b,
+  // max(0, sum_f rho_f g.(x_b - x_f) W_bf / sum_f W_bf) / rho0^2, m^5/(kg s^2).
+  std::vector<double> hydrostatic;
+  // The same for the wall samples at rest that carry their owner's pressure
+  // (is_resting_own_sample), by sample index q (rows of the other samples are empty; no rows
+  // without samples): the fluid f is the owner i and its fluid neighbours, W_wf = W(|x_w - x_f|).
+  std::vector<std::uint32_t> sample_offsets;
+  std::vector<std::uint32_t> sample_fluid;
+  std::vector<double> sample_weight;
+  std::vector<double> sample_hydrostatic;  // per sample, m^5/(kg s^2)
+};
+
+// The stencil of the boundary particles for this step's positions and densities (fluid rows of
+// the neighbour list: the pairs are symmetric). `gravity` in m/s^2.
+void compute_wall_pressure_stencil(const ParticleSet& particles, const SphSystem& system, const SphKernel& kernel,
+                                   const std::vector<double>& density, const Vec2& gravity,
+                                   WallPressureStencil& stencil);
+
+// s_b = p_b / rho0^2 of row r from the fluid's s_f = kappa_f / rho_f (the part linear in the
+// stiffness): sum_f weight_bf rho_f^2 s_f / rho0^2, i.e. p_b = sum_f weight_bf p_f ([AHA12] eq. (27)).
+inline double extrapolated_wall_stiffness(const WallPressureStencil& stencil, std::size_t row, const double* s,
+                                          const std::vector<double>& density, double rest_density) {
+  double pressure = 0.0;  // sum_f weight p_f / rho_f^2 * rho_f^2 = sum_f weight_bf p_f (in s units x rho0^2)
+  for (std::uint32_t k = stencil.offsets[row]; k < stencil.offsets[row + 1]; ++k) {
+    const std::uint32_t f = stencil.fluid[k];
+    pressure += stencil.weight[k] * density[f] * density[f] * s[f];
+  }
+  return pressure / (rest_density * rest_density);
+}
+
+// s_w = p_w / rho0^2 of wall sample q (its stiffness part, as extrapolated_wall_stiffness); 0
+// for a sample without a row (a mirror image: it carries its source's s through the constraint).
+inline double extrapolated_sample_stiffness(const WallPressureStencil& stencil, std::size_t q, const double* s,
+                                            const std::vector<double>& density, double rest_density) {
+  double pressure = 0.0;
+  for (std::uint32_t k = stencil.sample_offsets[q]; k < stencil.sample_offsets[q + 1]; ++k) {
+    const std::uint32_t f = stencil.sample_fluid[k];
+    pressure += stencil.sample_weight[k] * density[f] * density[f] * s[f];
+  }
+  return pressure / (rest_density * rest_density);
+}
+
+// The hydrostatic part of the extrapolated wall pressure as an explicit acceleration (wall_pressure
+// = extrapolated): a_i -= sum_b Psi_b s_b,hyd grad W_ib over boundary particles, and
+// a_i -= sum_w Psi_w s_w,hyd grad W_iw over wall samples (the sample row's part, or for a mirror
+// image max(0, rho0 g.(x_w - x_s)) / rho0^2). m/s^2.
+void add_wall_hydrostatic_acceleration(const ParticleSet& particles, const SphSystem& system, const Vec2& gravity,
+                                       std::vector<Vec2>& acceleration);
+
+// True if the wall sample is a wall point at rest that carries its owner's pressure (source =
+// owner, velocity_map = 0): under wall_pressure = extrapolated its pressure term is symmetric,
+// (s_i + p_w / rho0^2) Psi_w grad W_iw.
+inline bool is_resting_own_sample(const WallSample& sample, std::uint32_t owner) {
+  return sample.source == owner && sample.velocity_map.isZero(0.0);
+}
 
 inline bool is_boundary(const ParticleSet& particles, const SphSystem& system, std::size_t j) {
   return particles.type[j] == ParticleType::Wall && system.boundary_mass[j] > 0.0;
@@ -148,7 +240,8 @@ void add_viscous_acceleration(const ParticleSet& particles, const SphSystem& sys
 // boundary particle b (the reaction to the boundary term of the solvers' pressure correction,
 // with the fluid pressures p_f = particles.pressure of this step) divided by the wall face
 // a particle carries, `face_length` = l0 (per metre of depth):
-//   p_b = | sum_f m Psi_b (p_f / rho_f^2) grad_f W_fb | / l0.
+//   p_b = | sum_f m Psi_b (p_f / rho_f^2 + s_b) grad_f W_fb | / l0,
+// s_b = 0 (wall_pressure = mirrored) or the wall's own extrapolated p_b / rho0^2 (extrapolated).
 // On a flat wall this is the wall pressure; summed over a wall it is the force the fluid
 // exerts on it (momentum balance). 0 for wall particles without fluid neighbours.
 // Evaluates grad W itself (`kernel`): it reads the rows of boundary particles.

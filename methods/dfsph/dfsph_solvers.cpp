@@ -61,12 +61,15 @@ struct IterationArrays {
   double* block_error;             // per block of kErrorBlock fluid particles
   const WallSampleList* samples;   // null without wall samples
   const SampleCache* sample;
+  const WallPressureStencil* wall_pressure;  // null: wall_pressure = mirrored
+  const std::vector<double>* density;        // rho_i, kg/m^3
+  double rest_density;                       // rho0, kg/m^3
   std::ptrdiff_t fluid_count;
   std::ptrdiff_t blocks;
 };
 
-IterationArrays iteration_arrays(ParticleSet& particles, const SphSystem& system, std::vector<double>& stiffness,
-                                 SolverWorkspace& w) {
+IterationArrays iteration_arrays(ParticleSet& particles, const SphSystem& system, const std::vector<double>& density,
+                                 std::vector<double>& stiffness, SolverWorkspace& w) {
   IterationArrays arrays{};
   arrays.coefficient = prepare(particles, system, stiffness, w);
   arrays.offsets = system.neighbours.offsets.data();
@@ -78,6 +81,9 @@ IterationArrays iteration_arrays(ParticleSet& particles, const SphSystem& system
   arrays.block_error = w.block_error.data();
   arrays.samples = system.has_samples() ? system.samples : nullptr;
   arrays.sample = system.sample_kernel;
+  arrays.wall_pressure = system.wall_pressure;
+  arrays.density = &density;
+  arrays.rest_density = system.rest_density;
   arrays.fluid_count = static_cast<std::ptrdiff_t>(w.fluid.size());
   arrays.blocks = static_cast<std::ptrdiff_t>(w.block_error.size());
   return arrays;
@@ -114,7 +120,19 @@ inline Vec2 pair_sum(const IterationArrays& a, std::uint32_t i, Term term) {
 // with two threads each one's share of the neighbour lists stays in its own cache.
 // Called by every thread of the solver's parallel region (an orphaned omp for).
 void correct(const IterationArrays& a, double dt, std::vector<double>& stiffness) {
-  const double* s = a.s;
+  double* s = a.s;
+  if (a.wall_pressure != nullptr) {
+    // wall_pressure = extrapolated: s_b = p_b / rho0^2 of the boundary particles from the
+    // fluid's pending s ([AHA12] eq. (27), the stiffness part; [BGI18]), so that the pair sum
+    // below gives the symmetric wall term (s_i + s_b) c_ib. The omp for ends in a barrier.
+    const WallPressureStencil& stencil = *a.wall_pressure;
+    const auto rows = static_cast<std::ptrdiff_t>(stencil.boundary.size());
+#pragma omp for schedule(static)
+    for (std::ptrdiff_t r = 0; r < rows; ++r) {
+      s[stencil.boundary[r]] =
+          extrapolated_wall_stiffness(stencil, static_cast<std::size_t>(r), s, *a.density, a.rest_density);
+    }
+  }
 #pragma omp for schedule(static)
   for (std::ptrdiff_t block = 0; block < a.blocks; ++block) {
     const std::ptrdiff_t last = block_last(a, block);
@@ -130,8 +148,15 @@ void correct(const IterationArrays& a, double dt, std::vector<double>& stiffness
         // [AIA12]'s mirroring), and the reaction of every constraint k whose samples move with i
         // (images of i seen by k): -s_k G_ki = +s_k Psi M^T grad W_kw.
         const SampleCache* sample = a.sample;
-        for_each_neighbour(*a.samples, i,
-                           [&](std::uint32_t q, const WallSample&) { gradient += s_i * sample->own[q]; });
+        // wall_pressure = extrapolated: a sample at rest carrying i's pressure has the symmetric
+        // term (s_i + s_w) Psi_w grad W_iw, s_w its own extrapolated p_w / rho0^2 ([AHA12] eq. (27),
+        // [BGI18]; the hydrostatic part is explicit). 0 for a sample without a row.
+        const WallPressureStencil* stencil = a.wall_pressure;
+        for_each_neighbour(*a.samples, i, [&](std::uint32_t q, const WallSample&) {
+          const double s_w =
+              stencil != nullptr ? extrapolated_sample_stiffness(*stencil, q, s, *a.density, a.rest_density) : 0.0;
+          gradient += (s_i + s_w) * sample->own[q];
+        });
         for (std::uint32_t q = sample->by_source_offsets[i]; q < sample->by_source_offsets[i + 1]; ++q) {
           const std::uint32_t kw = sample->by_source[q];
           gradient -= s[sample->owner[kw]] * sample->reaction[kw];
@@ -207,7 +232,7 @@ template <class Settle>
 SolverOutcome iterate(ParticleSet& particles, const SphSystem& system, const std::vector<double>& density, double dt,
                       const SolverSettings& settings, std::vector<double>& stiffness, SolverWorkspace& w,
                       Settle settle) {
-  const IterationArrays arrays = iteration_arrays(particles, system, stiffness, w);
+  const IterationArrays arrays = iteration_arrays(particles, system, density, stiffness, w);
   const bool warm = settings.warm_start_fraction > 0.0;
   SolverOutcome outcome;
 #pragma omp parallel if (arrays.fluid_count >= kThreadedLoopMinimum)
