@@ -326,3 +326,46 @@ TEST_CASE("moving walls: a polygon moved by a law - its wall particles at x_b0 +
   }
   CHECK(moved > 20);  // 3 layers inside a triangle 0.2 m wide at l0 = 0.02: about 30 points
 }
+
+TEST_CASE("contact: two equal discs collide head-on without damping - velocities exchanged", "[bodies][contact]") {
+  // Elastic central collision of equal masses (zeta = 0, mu = 0, no gravity): the velocities
+  // exchange. The linear spring's impulse is exact up to symplectic Euler's O(h) energy error:
+  // the contact lasts pi sqrt(m_eff / k) = 12.4 ms = 25 steps of 0.5 ms; 1 % on the speeds.
+  // Momentum is exchanged pairwise (equal and opposite forces): its sum stays 0 to rounding.
+  const Scene scene =
+      load("disc_on_slope.json", {"walls.obstacles=[{\"circle\": {\"centre\": [0.8, 0.8], \"radius\": 0.1}, \"body\": "
+                                  "{\"density\": 500, \"velocity\": [1, 0]}}, {\"circle\": {\"centre\": [1.2, 0.8], "
+                                  "\"radius\": 0.1}, \"body\": {\"density\": 500, \"velocity\": [-1, 0]}}]",
+                                  "physics.gravity=[0, 0]", "contact.damping_ratio=0", "contact.friction=0"});
+  RigidBodies bodies(scene);
+  REQUIRE(bodies.size() == 2);
+  const ObstacleLoads no_fluid;
+  for (int step = 0; step < 600; ++step) bodies.advance(5e-4, no_fluid);  // 0.3 s: met at 0.1 s
+  CHECK(bodies.state(0).velocity.x() == Approx(-1.0).epsilon(0.01));
+  CHECK(bodies.state(1).velocity.x() == Approx(1.0).epsilon(0.01));
+  CHECK(std::fabs(bodies.state(0).velocity.x() + bodies.state(1).velocity.x()) < 1e-12);
+  CHECK(std::fabs(bodies.state(0).velocity.y()) < 1e-12);
+  CHECK(std::fabs(bodies.state(0).angular_velocity) < 1e-12);  // central: no torque
+}
+
+TEST_CASE("contact: a box body dropped on the bed comes to rest on two corner springs", "[bodies][contact]") {
+  // The box's surface (0.22 x 0.12 m, density 500: m = 13.2 kg/m) falls 0.18 m onto the bed's
+  // surface y = 0.01 m and settles on its two lower corners (polygon vertex against a segment):
+  // each carries m g / 2, so the overlap is m g / (2 k_n) = 64.7 um. The two-spring system has
+  // zeta_eff = sqrt(2) 0.3 = 0.42 and a period of 16 ms: 1 s leaves it at rest (1e-6 m/s).
+  const Scene scene =
+      load("disc_on_slope.json",
+           {"walls.obstacles=[{\"min\": [0.8, 0.2], \"max\": [1.0, 0.3], \"body\": {\"density\": 500}}]"});
+  RigidBodies bodies(scene);
+  REQUIRE(bodies.size() == 1);
+  const ObstacleLoads no_fluid;
+  for (int step = 0; step < 2000; ++step) bodies.advance(5e-4, no_fluid);
+  const BodyState& s = bodies.state(0);
+  const double m = 500.0 * 0.22 * 0.12;
+  const double overlap = m * 9.81 / (2.0 * scene.contact.stiffness);
+  INFO("centre " << s.position.transpose() << " velocity " << s.velocity.transpose() << " angle " << s.angle);
+  CHECK(s.velocity.norm() < 1e-6);
+  CHECK(std::fabs(s.angle) < 1e-9);  // symmetric: no rocking
+  CHECK(0.01 + 0.06 - s.position.y() == Approx(overlap).epsilon(0.01));
+  CHECK(s.position.x() == Approx(0.9).epsilon(1e-9));
+}

@@ -141,8 +141,8 @@ struct RunResult {
 // the run is complete and no later end time is given).
 RunResult run_simulation(const RunOptions& options, const MethodRegistry& methods, const WallTreatmentRegistry& walls);
 
-// The series.csv columns of a run: the common ones, the scene's pressure sensors (mean and peak), then the
-// method's own.
+// The series.csv columns of a run: the common ones, the scene's pressure sensors (mean and peak), the rigid
+// bodies' (docs/bodies.md), then the method's own.
 std::vector<std::string> series_columns(const MethodInfo& method, const Scene& scene);
 
 const char* git_revision();
