@@ -421,3 +421,29 @@ TEST_CASE("moving walls: a rotating pose moves a body's wall particles rigidly -
   CHECK(members == walls.count(0));
   CHECK(members == 11 * 6);  // the box's lattice points: 11 x 6, all within 3 layers of its sides
 }
+
+TEST_CASE("contact: a disc dropped on a box body on the bed - the stack comes to rest on its springs",
+          "[bodies][contact]") {
+  // Circle-polygon between bodies and polygon-segment with the bed: the disc (m_d = 500 pi 0.01
+  // = 15.7 kg/m) on the box's top face (m_b = 13.2 kg/m) carries m_d g on one spring, the box
+  // (m_b + m_d) g on its two lower corners. Overlaps m_d g / k_n = 154 um and (m_b + m_d) g /
+  // (2 k_n) = 142 um; 1 % (the stack is at rest after 2 s: its slowest mode has a period of
+  // 2 pi sqrt(m / k) ~ 25 ms and zeta >= 0.3).
+  const Scene scene =
+      load("disc_on_slope.json", {"walls.obstacles=[{\"min\": [0.8, 0.2], \"max\": [1.0, 0.3], \"body\": "
+                                  "{\"density\": 500}}, {\"circle\": {\"centre\": [0.9, 0.5], "
+                                  "\"radius\": 0.1}, \"body\": {\"density\": 500}}]"});
+  RigidBodies bodies(scene);
+  REQUIRE(bodies.size() == 2);
+  const ObstacleLoads no_fluid;
+  for (int step = 0; step < 4000; ++step) bodies.advance(5e-4, no_fluid);
+  const double g = 9.81, k = scene.contact.stiffness;
+  const double m_b = 500.0 * 0.22 * 0.12, m_d = 500.0 * kPi * 0.01;
+  const BodyState &box = bodies.state(0), &disc = bodies.state(1);
+  INFO("box " << box.position.transpose() << " disc " << disc.position.transpose());
+  CHECK(box.velocity.norm() < 1e-6);
+  CHECK(disc.velocity.norm() < 1e-6);
+  CHECK(0.07 - box.position.y() == Approx((m_b + m_d) * g / (2.0 * k)).epsilon(0.01));
+  CHECK(box.position.y() + 0.06 + 0.1 - disc.position.y() == Approx(m_d * g / k).epsilon(0.01));
+  CHECK(disc.position.x() == Approx(0.9).epsilon(1e-9));
+}
