@@ -12,6 +12,7 @@
 #include <sstream>
 
 #include "core/base/error.hpp"
+#include "core/bodies/mass_properties.hpp"
 #include "core/io/geometry.hpp"
 #include "core/run/method.hpp"
 #include "core/walls/wall_geometry.hpp"
@@ -81,6 +82,40 @@ std::vector<ParameterSpec> motion_keys() {
       number_parameter("period", 1.0, "s", "sinusoid: the period T").above(0.0),
       number_parameter("phase", 0.0, "rad", "sinusoid: the phase phi"),
       string_parameter("file", "", "table: CSV file of rows t,x,y (s, m, m), relative to the scene file"),
+  };
+}
+
+// walls.obstacles[k].circle: a circle obstacle.
+std::vector<ParameterSpec> circle_keys() {
+  return {
+      vector2_parameter("centre", Vec2::Zero(), "m", "the circle's centre, inside the domain").mandatory(),
+      number_parameter("radius", 0.0, "m", "the circle's radius (its wall surface)").above(0.0).mandatory(),
+  };
+}
+
+// walls.obstacles[k].body (docs/bodies.md): the obstacle is a rigid body.
+std::vector<ParameterSpec> body_keys() {
+  return {
+      number_parameter("density", 0.0, "kg/m^3",
+                       "the body's uniform density (2-D: over a unit width; mass in kg per m of width)")
+          .above(0.0)
+          .mandatory(),
+      vector2_parameter("velocity", Vec2::Zero(), "m/s", "initial velocity of the centre of mass"),
+      number_parameter("angular_velocity", 0.0, "rad/s", "initial angular velocity, counter-clockwise positive"),
+  };
+}
+
+// contact (core/bodies/rigid_bodies.hpp): the spring-dashpot contact of rigid bodies.
+std::vector<ParameterSpec> contact_keys() {
+  return {
+      number_parameter("stiffness", 1.0e6, "N/m^2", "normal spring stiffness k_n, N/m per m of width").above(0.0),
+      number_parameter("damping_ratio", 0.3, "1", "damping ratio zeta of the normal and tangential dashpots")
+          .at_least(0.0),
+      number_parameter("friction", 0.5, "1", "Coulomb friction coefficient mu").at_least(0.0),
+      number_parameter("tangential_stiffness", 2.0 / 7.0, "1",
+                       "tangential spring stiffness as a fraction of the normal one, k_t / k_n")
+          .above(0.0),
+      integer_parameter("steps_per_period", 20, "body sub-steps per contact period 2 pi sqrt(m_eff / k_n)").at_least(4),
   };
 }
 
@@ -343,6 +378,9 @@ std::vector<SceneBlockSpec> shared_scene_keys() {
           {"walls", wall_keys()},
           {"walls.obstacles[]", obstacle_keys()},
           {"walls.obstacles[].motion", motion_keys()},
+          {"walls.obstacles[].circle", circle_keys()},
+          {"walls.obstacles[].body", body_keys()},
+          {"contact", contact_keys()},
           {"fluid_blocks[]", fluid_block_keys()},
           {"physics", physics_keys()},
           {"time", time_keys()},
@@ -356,7 +394,10 @@ std::vector<SceneBlockSpec> shared_scene_keys() {
 }
 
 bool TankWalls::any_moving() const {
-  return std::any_of(motions.begin(), motions.end(), [](const WallMotion& m) { return m.moves(); });
+  for (std::size_t k = 0; k < obstacles.size(); ++k) {
+    if (moving(k)) return true;
+  }
+  return false;
 }
 
 const MethodConfig& Scene::method_config(const std::string& name) const {
@@ -450,8 +491,8 @@ namespace {
 // The top-level keys; every block that is given must be an object (null is not "the
 // defaults"; fluid_blocks is an array, read below).
 void read_top_level(const nlohmann::json& document, const std::string& source, Scene& scene) {
-  const std::set<std::string> blocks = {"domain", "walls",       "fluid_blocks", "physics",    "time",   "output",
-                                        "run",    "diagnostics", "stability",    "validation", "methods"};
+  const std::set<std::string> blocks = {"domain", "walls",       "fluid_blocks", "physics",    "time",    "output",
+                                        "run",    "diagnostics", "stability",    "validation", "methods", "contact"};
   const auto top = resolve_parameters(top_level_keys(), document, source, "", blocks);
   // A block that is given must be an object: null is not "the defaults" (fluid_blocks: below).
   for (const auto& name : blocks) {
@@ -515,21 +556,41 @@ WallMotion read_motion(const nlohmann::json& block, const std::string& source, c
   return motion;
 }
 
+// walls.obstacles[k].body: a rigid body's density and initial velocities.
+BodySpec read_body(const nlohmann::json& block, const std::string& source, const std::string& path) {
+  const auto values = resolve_parameters(body_keys(), block, source, path);
+  BodySpec body;
+  body.density = values.number("density");
+  body.velocity = values.vector2("velocity");
+  body.angular_velocity = values.number("angular_velocity");
+  return body;
+}
+
+// An obstacle's "motion" (a prescribed law) or "body" (a rigid body): at most one of them.
+void read_obstacle_dynamics(const nlohmann::json& block, const std::string& source, const std::string& path,
+                            TankWalls& walls) {
+  const bool motion = block.contains("motion"), body = block.contains("body");
+  if (motion && body) {
+    throw_input_error(source, path + ".body",
+                      "is not allowed beside " + path +
+                          ".motion (a body moves under its loads, a motion law prescribes; expected one of them)");
+  }
+  walls.motions.push_back(motion ? read_motion(block.at("motion"), source, path + ".motion") : WallMotion{});
+  walls.bodies.push_back(body ? read_body(block.at("body"), source, path + ".body") : BodySpec{});
+}
+
 // walls.obstacles[k] = {"polygon": [[x, y], ...]}: the wall surface as a polygon
 // (core/walls/wall_polygon.hpp), either orientation, stored counter-clockwise; its shape is
-// checked here, its place in the domain by check_obstacles. No other key: a box's min/max
-// would be ignored, a motion is not supported for a polygon (yet).
+// checked here, its place in the domain by check_obstacles. Beside it only a motion or a body:
+// a box's min/max would be ignored.
 void read_polygon_obstacle(const nlohmann::json& block, const std::string& source, const std::string& path,
                            TankWalls& walls) {
   for (const auto& [key, value] : block.items()) {
-    if (key == "polygon") continue;
-    const bool known = key == "min" || key == "max" || key == "motion";
+    if (key == "polygon" || key == "motion" || key == "body") continue;
+    const bool known = key == "min" || key == "max";
     throw_input_error(source, path + "." + key,
-                      known ? "is not allowed beside " + path + ".polygon (" +
-                                  (key == "motion" ? "a moving polygon is not yet supported: only a box moves"
-                                                   : "a polygon obstacle has no min/max") +
-                                  ")"
-                            : "unknown key of a polygon obstacle (expected: polygon)");
+                      known ? "is not allowed beside " + path + ".polygon (a polygon obstacle has no min/max)"
+                            : "unknown key of a polygon obstacle (expected: polygon, motion, body)");
   }
   const std::string key = path + ".polygon";
   const nlohmann::json& vertices = block.at("polygon");
@@ -553,7 +614,25 @@ void read_polygon_obstacle(const nlohmann::json& block, const std::string& sourc
   }
   walls.obstacles.push_back({low, high});  // its bounding box: not the solid (TankWalls::polygons)
   walls.polygons.push_back(counter_clockwise(polygon));
-  walls.motions.emplace_back();
+  walls.circles.emplace_back();
+  read_obstacle_dynamics(block, source, path, walls);
+}
+
+// walls.obstacles[k] = {"circle": {"centre", "radius"}}: a circle; its wall particles are those
+// of its inscribed polygon (circle_sides), its place in the domain is checked by check_obstacles.
+void read_circle_obstacle(const nlohmann::json& block, const std::string& source, const std::string& path, double l0,
+                          TankWalls& walls) {
+  for (const auto& [key, value] : block.items()) {
+    if (key == "circle" || key == "motion" || key == "body") continue;
+    throw_input_error(source, path + "." + key, "unknown key of a circle obstacle (expected: circle, motion, body)");
+  }
+  const auto values = resolve_parameters(circle_keys(), block.at("circle"), source, path + ".circle");
+  const Circle circle{values.vector2("centre"), values.number("radius")};
+  walls.obstacles.push_back(
+      {circle.centre - Vec2(circle.radius, circle.radius), circle.centre + Vec2(circle.radius, circle.radius)});
+  walls.polygons.push_back(circle_polygon(circle.centre, circle.radius, circle_sides(circle.radius, l0)));
+  walls.circles.push_back(circle);
+  read_obstacle_dynamics(block, source, path, walls);
 }
 
 // walls: the tank's layers and sides, and the obstacles.
@@ -573,12 +652,15 @@ void read_walls(const nlohmann::json& document, const std::string& source, Scene
         read_polygon_obstacle(obstacles[k], source, path, scene.walls);
         continue;
       }
-      const auto box = resolve_parameters(obstacle_keys(), obstacles[k], source, path, {"motion"});
+      if (obstacles[k].is_object() && obstacles[k].contains("circle")) {
+        read_circle_obstacle(obstacles[k], source, path, scene.particle_spacing, scene.walls);
+        continue;
+      }
+      const auto box = resolve_parameters(obstacle_keys(), obstacles[k], source, path, {"motion", "body"});
       scene.walls.obstacles.push_back({box.vector2("min"), box.vector2("max")});
       scene.walls.polygons.emplace_back();
-      const bool moving = obstacles[k].is_object() && obstacles[k].contains("motion");
-      scene.walls.motions.push_back(moving ? read_motion(obstacles[k].at("motion"), source, path + ".motion")
-                                           : WallMotion{});
+      scene.walls.circles.emplace_back();
+      read_obstacle_dynamics(obstacles[k], source, path, scene.walls);
     }
   }
   scene.walls.layers = static_cast<int>(wall_block.integer("layers"));
@@ -724,8 +806,20 @@ void check_fluid_blocks(const std::string& source, const Scene& scene) {
   }
 }
 
-// A polygon obstacle lies inside the domain (its vertices, hence its edges: the domain is convex).
+// A polygon obstacle lies inside the domain (its vertices, hence its edges: the domain is convex);
+// a circle with all of its disc.
 void check_polygon_in_domain(const std::string& source, const Scene& scene, std::size_t k) {
+  if (scene.walls.is_circle(k)) {
+    const Circle& circle = scene.walls.circles[k];
+    const Vec2 reach(circle.radius, circle.radius);
+    if (!inside_box(circle.centre - reach, scene.domain, 1e-9 * scene.particle_spacing) ||
+        !inside_box(circle.centre + reach, scene.domain, 1e-9 * scene.particle_spacing)) {
+      throw_input_error(source, "walls.obstacles[" + std::to_string(k) + "].circle",
+                        "got centre " + describe_point(circle.centre) + " radius " + describe_json(circle.radius) +
+                            " m, expected a circle inside the domain " + describe_domain(scene));
+    }
+    return;
+  }
   for (const Vec2& vertex : scene.walls.polygons[k]) {
     if (!inside_box(vertex, scene.domain, 1e-9 * scene.particle_spacing)) {
       throw_input_error(
@@ -954,6 +1048,16 @@ void read_method_configs(const nlohmann::json& method_blocks, const std::string&
 
 }  // namespace
 
+// contact: the rigid bodies' contact parameters (docs/bodies.md).
+void read_contact(const nlohmann::json& document, const std::string& source, Scene& scene) {
+  const auto contact = resolve_parameters(contact_keys(), block_or_null(document, "contact"), source, "contact");
+  scene.contact.stiffness = contact.number("stiffness");
+  scene.contact.damping_ratio = contact.number("damping_ratio");
+  scene.contact.friction = contact.number("friction");
+  scene.contact.tangential_stiffness = contact.number("tangential_stiffness");
+  scene.contact.steps_per_period = static_cast<int>(contact.integer("steps_per_period"));
+}
+
 Scene parse_scene(nlohmann::json document, const std::string& source, const MethodRegistry& methods,
                   const WallTreatmentRegistry& walls) {
   if (!document.is_object()) throw_input_error(source, "", "expected a JSON object at the top level");
@@ -967,6 +1071,7 @@ Scene parse_scene(nlohmann::json document, const std::string& source, const Meth
   read_output(document, source, scene);
   read_run(document, source, scene);
   read_diagnostics(document, source, scene);
+  read_contact(document, source, scene);
   scene.stability = stability_settings(
       resolve_parameters(stability_keys(), block_or_null(document, "stability"), source, "stability"));
 

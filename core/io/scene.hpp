@@ -24,6 +24,24 @@ struct Box {
   Vec2 max = Vec2::Zero();  // m
 };
 
+// A circle obstacle (walls.obstacles[k].circle): its surface, m. Its wall particles are those
+// of a regular polygon inscribed in it (circle_polygon, core/bodies/mass_properties.hpp);
+// mass properties and contact use the exact circle.
+struct Circle {
+  Vec2 centre = Vec2::Zero();  // m
+  double radius = 0.0;         // m; 0: the obstacle is not a circle
+};
+
+// A rigid body (walls.obstacles[k].body, docs/bodies.md): the obstacle moves under gravity, the
+// fluid's load and contact. 2-D: density in kg/m^3 over a unit width (1 m), so a body's mass
+// is kg per metre of width.
+struct BodySpec {
+  double density = 0.0;           // kg/m^3; 0: the obstacle is not a body
+  Vec2 velocity = Vec2::Zero();   // initial velocity of the centre of mass, m/s
+  double angular_velocity = 0.0;  // initial, rad/s, counter-clockwise
+  bool free() const { return density > 0.0; }
+};
+
 // Walls of the tank: straight walls along the sides of the domain box, each `layers`
 // particles thick, the first layer on the domain boundary (spec §4).
 struct TankWalls {
@@ -41,7 +59,25 @@ struct TankWalls {
   // One per obstacle (walls.obstacles[k].motion): its prescribed motion, MotionLaw::None when
   // it is fixed (core/walls/wall_motion.hpp).
   std::vector<WallMotion> motions;
+  // One per obstacle: radius 0 unless it is a circle (then polygons[k] is its inscribed polygon).
+  std::vector<Circle> circles;
+  bool is_circle(std::size_t k) const { return k < circles.size() && circles[k].radius > 0.0; }
+  // One per obstacle (walls.obstacles[k].body): density 0 unless it is a rigid body.
+  std::vector<BodySpec> bodies;
+  bool is_body(std::size_t k) const { return k < bodies.size() && bodies[k].free(); }
+  // Whether obstacle k moves: a motion law or a rigid body; its wall particles follow it.
+  bool moving(std::size_t k) const { return (k < motions.size() && motions[k].moves()) || is_body(k); }
   bool any_moving() const;
+};
+
+// The "contact" block: the spring-dashpot contact of rigid bodies with the walls and each other
+// (core/bodies/rigid_bodies.hpp; Cundall & Strack 1979, linear spring, dashpot, Coulomb limit).
+struct ContactControl {
+  double stiffness = 1.0e6;                 // k_n, N/m per m of width (N/m^2)
+  double damping_ratio = 0.3;               // zeta of the normal and tangential dashpots
+  double friction = 0.5;                    // Coulomb coefficient mu
+  double tangential_stiffness = 2.0 / 7.0;  // k_t / k_n
+  int steps_per_period = 20;                // body sub-steps per contact period 2 pi sqrt(m_eff / k)
 };
 
 struct FluidBlock {
@@ -135,6 +171,7 @@ struct Scene {
   DiagnosticsControl diagnostics;
   StabilitySettings stability;                  // the "stability" block (core/run/stability.hpp)
   ValidationControl validation;                 // the "validation" block (experiments to compare with)
+  ContactControl contact;                       // the "contact" block (rigid bodies)
   std::string method;                           // the scene's default method
   std::map<std::string, MethodConfig> methods;  // one entry per registered method
   nlohmann::json document;                      // the JSON after --set overrides

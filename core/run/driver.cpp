@@ -63,6 +63,8 @@ std::vector<std::string> series_columns(const MethodInfo& method, const Scene& s
     columns.push_back("pressure_" + sensor.name);           // Pa, time-weighted mean since the previous row
     columns.push_back("pressure_" + sensor.name + "_max");  // Pa, peak since the previous row
   }
+  const std::vector<std::string> bodies = RigidBodies::series_columns(scene);  // docs/bodies.md
+  columns.insert(columns.end(), bodies.begin(), bodies.end());
   columns.insert(columns.end(), method.series_columns.begin(), method.series_columns.end());
   return columns;
 }
@@ -83,13 +85,14 @@ void check_moving_walls(const Scene& scene, const MethodInfo& method, const Meth
   const bool model_moves = boundary != nullptr && boundary->info->moving_walls;
   if (model_moves && method.moving_walls) return;
   std::size_t k = 0;
-  while (!scene.walls.motions[k].moves()) ++k;
+  while (!scene.walls.moving(k)) ++k;
   const std::string why =
       !method.moving_walls
           ? "method '" + method.name + "' does not use a wall's velocity; expected a method that does"
           : "the boundary model " + (boundary != nullptr ? boundary->info->name : std::string("(none)")) +
                 " does not move walls; expected a boundary model that does";
-  throw_input_error(scene.source, "walls.obstacles[" + std::to_string(k) + "].motion",
+  throw_input_error(scene.source,
+                    "walls.obstacles[" + std::to_string(k) + "]." + (scene.walls.is_body(k) ? "body" : "motion"),
                     why + " (docs/walls.md, \"Moving walls\")");
 }
 
@@ -100,12 +103,14 @@ Simulation::Simulation(const Scene& scene, const MethodInfo& info, PressureSyste
       info_(info),
       particles_(build_particles(scene, wants_wall_particles(scene, info))),
       moving_walls_(scene, particles_),
+      bodies_(scene),
       monitor_(scene, scene.stability),
       sensors_(scene) {
   for (const auto& field : info.fields) particles_.add_field(field.name);
   const MethodConfig& config = scene.method_config(info.name);
   check_moving_walls(scene, info, config);
-  moving_walls_.apply(particles_, 0.0);
+  fluid_loads_.reset(scene.walls.obstacles.size());
+  place_moving_walls(0.0);
   method_ = info.create(
       MethodSetup{scene, config.parameters, config.wall_treatments, &timers_, std::move(pressure_system_observer)});
   check_all_read(config.parameters, "method '" + info.name + "'");
@@ -114,6 +119,15 @@ Simulation::Simulation(const Scene& scene, const MethodInfo& info, PressureSyste
   timers_.reset();  // initialise() may have timed phases: they count as setup
   timers_.add(timers_.phase("setup"),
               std::chrono::duration<double>(PhaseTimers::Clock::now() - setup_started_).count());
+}
+
+// The wall particles of moving obstacles where they are at time t (s): a motion law's pose at t,
+// a body's from its state (where the last advance() left it).
+void Simulation::place_moving_walls(double t) {
+  if (moving_walls_.empty()) return;
+  std::vector<RigidPose> poses = moving_walls_.law_poses(t);
+  bodies_.set_poses(poses);
+  moving_walls_.apply(particles_, poses);
 }
 
 void Simulation::reorder_by_cell() {
@@ -133,10 +147,11 @@ const StepReport& Simulation::advance() {
   if (period > 0 && steps_ > 0 && steps_ % period == 0) reorder_by_cell();
   const double dt = method_->time_step(particles_);
   // The clock: a compensated sum of the steps. Moving walls are put where their laws have them
-  // at the end of the step, the time the pressure solve is for.
+  // at the end of the step, the time the pressure solve is for; a body where the previous
+  // step's advance() left it (docs/bodies.md, "Order in the step").
   const double increment = dt - time_compensation_;
   const double next_time = time_ + increment;
-  moving_walls_.apply(particles_, next_time);
+  place_moving_walls(next_time);
   try {
     report_ = method_->step(particles_, dt);
   } catch (const std::runtime_error& error) {
@@ -150,6 +165,9 @@ const StepReport& Simulation::advance() {
     throw std::logic_error("method '" + info_.name + "' reported " + std::to_string(report_.extra.size()) +
                            " statistics for " + std::to_string(info_.series_columns.size()) + " declared columns");
   }
+  // The bodies after the method's step, under this step's fluid load (zero until the methods
+  // report it: fluid_loads_).
+  bodies_.advance(dt, fluid_loads_);
   ++steps_;
   time_compensation_ = (next_time - time_) - increment;
   time_ = next_time;
@@ -259,6 +277,12 @@ void Simulation::save_checkpoint(CheckpointWriter& out) const {
   out.begin_section("pressure_sensors");
   sensors_.save(out);
   out.end_section();
+
+  if (!bodies_.empty()) {  // a scene without bodies writes the checkpoint it wrote before them
+    out.begin_section("bodies");
+    bodies_.save(out);
+    out.end_section();
+  }
 }
 
 void Simulation::restore_checkpoint(CheckpointReader& in) {
@@ -296,6 +320,12 @@ void Simulation::restore_checkpoint(CheckpointReader& in) {
   in.begin_section("pressure_sensors");
   sensors_.restore(in);
   in.end_section();
+
+  if (!bodies_.empty()) {
+    in.begin_section("bodies");
+    bodies_.restore(in);
+    in.end_section();
+  }
 }
 
 namespace {
@@ -608,6 +638,7 @@ std::vector<double> RunSession::series_row(const FlowMeasures& measures) {
                              static_cast<double>(simulation_.monitor().state().events_total)};
   const std::vector<double> sensors = simulation_.pressure_sensors().take_row(simulation_.particles());
   row.insert(row.end(), sensors.begin(), sensors.end());
+  simulation_.bodies().append_series(row);
   if (simulation_.steps() == 0) {
     row.resize(row.size() + info_.series_columns.size(), 0.0);
   } else {

@@ -13,6 +13,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "core/bodies/rigid_bodies.hpp"
 #include "core/io/scene.hpp"
 #include "core/run/diagnostics.hpp"
 #include "core/run/method.hpp"
@@ -20,6 +21,7 @@
 #include "core/run/profile.hpp"
 #include "core/run/stability.hpp"
 #include "core/walls/moving_walls.hpp"
+#include "core/walls/obstacle_loads.hpp"
 
 namespace mps_lab {
 
@@ -42,6 +44,9 @@ class Simulation {
   const MethodInfo& method_info() const { return info_; }
   const Method& method() const { return *method_; }
   const StabilityMonitor& monitor() const { return monitor_; }
+  // The rigid bodies (walls.obstacles[k].body; core/bodies/rigid_bodies.hpp), advanced after
+  // every method step.
+  const RigidBodies& bodies() const { return bodies_; }
   // Per-phase timers of this process's steps (core/run/profile.hpp): "setup" (particles and the
   // method's initialisation), the method's phases and "diagnostics" (the stability monitor).
   // Not part of a checkpoint: a resumed run profiles its own session.
@@ -74,6 +79,7 @@ class Simulation {
   // Cell-ordered particles (core/search/cell_order.hpp): the ParticleSet, the moving walls'
   // members and the method's per-particle state (Method::permute_state) in cell-major order.
   void reorder_by_cell();
+  void place_moving_walls(double t);
 
   PhaseTimers timers_;  // first: the constructor's own time is its "setup" phase
   PhaseTimers::Clock::time_point setup_started_ = PhaseTimers::Clock::now();
@@ -82,7 +88,11 @@ class Simulation {
   const Scene& scene_;
   const MethodInfo& info_;
   ParticleSet particles_;
-  MovingWalls moving_walls_;  // obstacles with a motion law (empty: every wall fixed)
+  MovingWalls moving_walls_;  // obstacles with a motion law or a body (empty: every wall fixed)
+  RigidBodies bodies_;        // obstacles with a body block
+  // The fluid's load on each obstacle (core/walls/obstacle_loads.hpp) that moves the bodies:
+  // zero until the methods report it (the lead wires Method's ObstacleLoads in here, in advance()).
+  ObstacleLoads fluid_loads_;
   std::unique_ptr<Method> method_;
   StabilityMonitor monitor_;
   PressureSensorRecord sensors_;
@@ -131,8 +141,8 @@ struct RunResult {
 // the run is complete and no later end time is given).
 RunResult run_simulation(const RunOptions& options, const MethodRegistry& methods, const WallTreatmentRegistry& walls);
 
-// The series.csv columns of a run: the common ones, the scene's pressure sensors (mean and peak), then the
-// method's own.
+// The series.csv columns of a run: the common ones, the scene's pressure sensors (mean and peak), the rigid
+// bodies' (docs/bodies.md), then the method's own.
 std::vector<std::string> series_columns(const MethodInfo& method, const Scene& scene);
 
 const char* git_revision();

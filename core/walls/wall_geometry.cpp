@@ -20,14 +20,14 @@ WallGeometry::WallGeometry(const Scene& scene)
   const double far = std::numeric_limits<double>::infinity();
   interior_.min = Vec2(walls_.left ? domain_.min.x() + h : -far, walls_.bottom ? domain_.min.y() + h : -far);
   interior_.max = Vec2(walls_.right ? domain_.max.x() - h : far, walls_.top ? domain_.max.y() - h : far);
-  // A moving obstacle (walls.obstacles[k].motion) is not part of this fixed geometry: an empty
+  // A moving obstacle (walls.obstacles[k].motion or .body) is not part of this fixed geometry: an empty
   // box (nothing is inside it) and no faces. Only boundary models of wall particles move walls.
   for (std::size_t k = 0; k < walls_.obstacles.size(); ++k) {
     const Box& box = walls_.obstacles[k];
-    const bool moving = k < walls_.motions.size() && walls_.motions[k].moves();
+    const bool moving = walls_.moving(k);  // a motion law or a rigid body
     // A polygon is its own surface (core/walls/wall_polygon.hpp): no box.
     const bool polygon = walls_.is_polygon(k);
-    polygons_.push_back(polygon ? walls_.polygons[k] : Polygon{});
+    polygons_.push_back(polygon && !moving ? walls_.polygons[k] : Polygon{});
     obstacles_.push_back(moving || polygon ? Box{Vec2(far, far), Vec2(-far, -far)}
                                            : Box{box.min - Vec2(h, h), box.max + Vec2(h, h)});
   }

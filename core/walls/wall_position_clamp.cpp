@@ -25,9 +25,9 @@ class WallPositionClamp final : public WallTreatment {
     low_ = setup.scene.domain.min + Vec2(offset, offset);
     high_ = setup.scene.domain.max - Vec2(offset, offset);
     for (std::size_t k = 0; k < setup.scene.walls.obstacles.size(); ++k) {
-      // A moving obstacle (walls.obstacles[k].motion) is kept out of by its moving wall
-      // particles, not clamped at its initial box.
-      if (k < setup.scene.walls.motions.size() && setup.scene.walls.motions[k].moves()) continue;
+      // A moving obstacle (walls.obstacles[k].motion or .body) is kept out of by its moving
+      // wall particles, not clamped at its initial box or polygon.
+      if (setup.scene.walls.moving(k)) continue;
       if (setup.scene.walls.is_polygon(k)) {
         polygons_.push_back(setup.scene.walls.polygons[k]);
         continue;
