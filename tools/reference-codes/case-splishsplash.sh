@@ -18,6 +18,9 @@ here=$(cd "$(dirname "$0")" && pwd)
 root=$(cd "$here/../.." && pwd)
 # shellcheck source=tools/reference-codes/common.sh
 . "$here/common.sh"
+# Pinned threads, as `mps_lab bench` and side-by-side.sh: unpinned OpenMP threads slow down many-fold beside
+# any other busy process on this machine class (docs/performance.md).
+export OMP_PROC_BIND=${OMP_PROC_BIND:-true}
 
 end_time=1.0
 threads_list="1 2"
