@@ -5,6 +5,7 @@
 #
 #   tools/reference-codes/side-by-side.sh OUT_DIR [--repetitions 3] [--threads 2] [--mps-end-time 0.3]
 #                                          [--dfsph-end-time 1.0] [--work DIR] [--mps-lab PATH] [--radii own|spec]
+#                                          [--pairs "mps dfsph-0.1 dfsph-0.01"]
 #
 # Pairs: mps against MPS-Basic (dt 1e-4 s, to --mps-end-time), dfsph against SPlisHSPlasH's DFSPH at a density
 # tolerance of 0.1 % and of 0.01 % (to --dfsph-end-time), all at l0 = 0.005 (scenes/dambreak_fine.json).
@@ -31,6 +32,7 @@ dfsph_end_time=1.0
 work=$root/build/reference-codes
 mps_lab=$root/build/mps_lab
 radii=own
+pairs="mps dfsph-0.1 dfsph-0.01"
 while [ $# -gt 0 ]; do
   case $1 in
     --repetitions) repetitions=$2; shift 2 ;;
@@ -40,6 +42,7 @@ while [ $# -gt 0 ]; do
     --work) work=$2; shift 2 ;;
     --mps-lab) mps_lab=$2; shift 2 ;;
     --radii) radii=$2; shift 2 ;;
+    --pairs) pairs=$2; shift 2 ;;
     *) refcodes_die "side-by-side.sh: unknown argument '$1'" ;;
   esac
 done
@@ -83,6 +86,7 @@ pair() {
     dfsph-0.01)
       ref_cmd=("$here/case-splishsplash.sh" --end-time "$dfsph_end_time" --threads "$threads" --tolerances 0.01 --work "$work")
       ours_cmd=(ours dfsph 1e-4 "$dfsph_end_time" dfsph-0.01) ;;
+    *) refcodes_die "side-by-side.sh: unknown pair '$name' (expected mps, dfsph-0.1, dfsph-0.01)" ;;
   esac
   local order=(ref ours)
   if [ $((rep % 2)) -eq 0 ]; then order=(ours ref); fi
@@ -97,7 +101,7 @@ pair() {
 load_before=$(uptime)
 echo "side-by-side: load before: $load_before" >&2
 for rep in $(seq 1 "$repetitions"); do
-  for name in mps dfsph-0.1 dfsph-0.01; do
+  for name in $pairs; do
     pair "$name" "$rep"
   done
 done
