@@ -4,6 +4,16 @@ set -euo pipefail
 packages=(build-essential cmake git libeigen3-dev libcli11-dev catch2 nlohmann-json3-dev
           python3-numpy python3-matplotlib ffmpeg clang-format
           libhypre-dev openmpi-bin)  # the last two: the solver comparison (lab/solver_comparison/)
+# Opt-in: `tools/install-dependencies.sh --reference-codes` adds what building MPS-Basic and SPlisHSPlasH needs
+# (tools/reference-codes/README.md): MPS-Basic's yaml-cpp, CSV parser and GoogleTest; the X11, OpenGL and D-Bus
+# headers of the GLFW window and file dialog that SPlisHSPlasH's simulator always compiles (runs stay headless).
+if [ "${1:-}" = "--reference-codes" ]; then
+  packages+=(libyaml-cpp-dev libfccp-dev googletest pkg-config libgl-dev libx11-dev libxrandr-dev
+             libxinerama-dev libxcursor-dev libxi-dev libdbus-1-dev)
+elif [ $# -gt 0 ]; then
+  echo "mps_lab: install-dependencies.sh: unknown argument '$1' (expected nothing or --reference-codes)" >&2
+  exit 1
+fi
 missing=()
 for package in "${packages[@]}"; do
   dpkg-query -W -f='${Status}' "$package" 2>/dev/null | grep -q "install ok installed" || missing+=("$package")
