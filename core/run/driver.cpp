@@ -16,6 +16,7 @@
 #include "core/run/profile.hpp"
 #include "core/run/thread_governor.hpp"
 #include "core/search/cell_order.hpp"
+#include "core/walls/obstacle_membership.hpp"
 
 namespace mps_lab {
 
@@ -64,6 +65,12 @@ std::vector<std::string> series_columns(const MethodInfo& method, const Scene& s
     columns.push_back("pressure_" + sensor.name + "_max");  // Pa, peak since the previous row
   }
   columns.insert(columns.end(), method.series_columns.begin(), method.series_columns.end());
+  if (reports_obstacle_loads(scene, method)) {  // core/walls/obstacle_loads.hpp, docs/walls.md
+    for (std::size_t k = 0; k < scene.walls.obstacles.size(); ++k) {
+      const std::string name = "obstacle_" + std::to_string(k);
+      columns.insert(columns.end(), {name + "_fx", name + "_fy", name + "_torque"});  // N/m, N/m, N
+    }
+  }
   return columns;
 }
 
@@ -100,6 +107,8 @@ Simulation::Simulation(const Scene& scene, const MethodInfo& info, PressureSyste
       info_(info),
       particles_(build_particles(scene, wants_wall_particles(scene, info))),
       moving_walls_(scene, particles_),
+      obstacle_of_id_(obstacle_of_wall_particles(scene, particles_)),
+      reports_loads_(mps_lab::reports_obstacle_loads(scene, info)),
       monitor_(scene, scene.stability),
       sensors_(scene) {
   for (const auto& field : info.fields) particles_.add_field(field.name);
@@ -157,9 +166,21 @@ const StepReport& Simulation::advance() {
   total_iterations_ += report_.solver_iterations;
   max_iterations_ = std::max(max_iterations_, report_.solver_iterations);
   const auto timed = timers_.measure(diagnostics_phase_);
+  sum_loads();
   monitor_.check_step(particles_, report_, steps_, time_, dt);  // throws RunStopped
   sensors_.sample(particles_, dt);
   return report_;
+}
+
+// The loads on the obstacles from the method's reaction on wall particles of this step.
+void Simulation::sum_loads() {
+  if (!reports_loads_) return;
+  const std::vector<Vec2>* reaction = method_->wall_reactions();
+  if (reaction == nullptr || reaction->size() != particles_.size()) {
+    throw std::logic_error("method '" + info_.name + "' declares obstacle_loads but reported no reaction on its " +
+                           std::to_string(particles_.size()) + " particles");
+  }
+  sum_obstacle_loads(scene_, particles_, obstacle_of_id_, *reaction, time_, loads_);
 }
 
 void Simulation::run_to(double end_time) {
@@ -445,6 +466,9 @@ nlohmann::json new_run_summary(const RunOptions& options, const RunSetup& setup,
   // Spec §3 note: the original code had static arrays of 10000 particles; this core has no
   // limit, but says so when a scene goes beyond what the validation runs covered.
   summary["notes"] = nlohmann::json::array();
+  if (!obstacle_loads_gap(scene, info).empty()) {  // a scene with obstacles whose loads this run cannot report
+    summary["notes"].push_back("no obstacle_<k> load columns: " + obstacle_loads_gap(scene, info));
+  }
   if (particles > kTestedParticles) {
     const std::string note = std::to_string(particles) +
                              " particles: beyond the 10000 of the specification's original code (spec §3) and the "
@@ -586,7 +610,7 @@ void RunSession::write_starting_summary() {
 
 // A row of series.csv (series_columns): the step, the flow measures, the solver and the
 // monitor, the sensors (mean and peak since the previous row, which starts a new interval),
-// then the method's columns (zeros before the first step).
+// then the method's columns (zeros before the first step), then the loads on the obstacles.
 std::vector<double> RunSession::series_row(const FlowMeasures& measures) {
   const StepReport& report = simulation_.last_report();
   std::vector<double> row = {static_cast<double>(simulation_.steps()),
@@ -612,6 +636,14 @@ std::vector<double> RunSession::series_row(const FlowMeasures& measures) {
     row.resize(row.size() + info_.series_columns.size(), 0.0);
   } else {
     row.insert(row.end(), report.extra.begin(), report.extra.end());
+  }
+  if (simulation_.reports_obstacle_loads()) {  // the last step's loads; zeros before the first step
+    const ObstacleLoads& loads = simulation_.obstacle_loads();
+    for (std::size_t k = 0; k < scene_.walls.obstacles.size(); ++k) {
+      const bool known = k < loads.size();
+      row.insert(row.end(),
+                 {known ? loads.force[k].x() : 0.0, known ? loads.force[k].y() : 0.0, known ? loads.torque[k] : 0.0});
+    }
   }
   return row;
 }

@@ -20,6 +20,7 @@
 #include "core/run/profile.hpp"
 #include "core/run/stability.hpp"
 #include "core/walls/moving_walls.hpp"
+#include "core/walls/obstacle_loads.hpp"
 
 namespace mps_lab {
 
@@ -57,6 +58,10 @@ class Simulation {
   // series row takes their mean and peak since the previous row (take_row).
   PressureSensorRecord& pressure_sensors() { return sensors_; }
   const PressureSensorRecord& pressure_sensors() const { return sensors_; }
+  // The fluid's load on each obstacle in the last step (core/walls/obstacle_loads.hpp); empty when
+  // the run does not report them (reports_obstacle_loads, core/run/method.hpp) or before a step.
+  const ObstacleLoads& obstacle_loads() const { return loads_; }
+  bool reports_obstacle_loads() const { return reports_loads_; }
   // Totals over all steps so far.
   long long total_solver_iterations() const { return total_iterations_; }
   long long max_solver_iterations() const { return max_iterations_; }
@@ -74,6 +79,7 @@ class Simulation {
   // Cell-ordered particles (core/search/cell_order.hpp): the ParticleSet, the moving walls'
   // members and the method's per-particle state (Method::permute_state) in cell-major order.
   void reorder_by_cell();
+  void sum_loads();
 
   PhaseTimers timers_;  // first: the constructor's own time is its "setup" phase
   PhaseTimers::Clock::time_point setup_started_ = PhaseTimers::Clock::now();
@@ -82,7 +88,10 @@ class Simulation {
   const Scene& scene_;
   const MethodInfo& info_;
   ParticleSet particles_;
-  MovingWalls moving_walls_;  // obstacles with a motion law (empty: every wall fixed)
+  MovingWalls moving_walls_;                  // obstacles with a motion law (empty: every wall fixed)
+  std::vector<std::int32_t> obstacle_of_id_;  // per particle id (core/walls/obstacle_membership.hpp)
+  bool reports_loads_ = false;
+  ObstacleLoads loads_;
   std::unique_ptr<Method> method_;
   StabilityMonitor monitor_;
   PressureSensorRecord sensors_;
