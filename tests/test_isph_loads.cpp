@@ -36,8 +36,7 @@ Vec2 total(const std::vector<Vec2>& values) {
 
 }  // namespace
 
-TEST_CASE("obstacle loads: isph wall pair terms are equal and opposite to what the fluid receives",
-          "[isph][loads]") {
+TEST_CASE("obstacle loads: isph wall pair terms are equal and opposite to what the fluid receives", "[isph][loads]") {
   // Fluid side: pressure_acceleration / add_viscous_acceleration with the wall particles and with
   // them turned into ghosts (which every sum skips); wall side: the reaction passes. ~1e3 pair
   // terms of at most ~1e2 N/m and totals ~1e3 N/m: rounding ~1e-10 N/m; 1e-8 N/m leaves 100x.

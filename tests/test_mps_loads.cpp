@@ -71,8 +71,7 @@ Vec2 total(const std::vector<Vec2>& values) {
 
 }  // namespace
 
-TEST_CASE("obstacle loads: mps wall pair terms are equal and opposite to what the fluid receives",
-          "[mps][loads]") {
+TEST_CASE("obstacle loads: mps wall pair terms are equal and opposite to what the fluid receives", "[mps][loads]") {
   // The fluid side is the operator that moves the fluid (pressure_acceleration, the CMPS one,
   // add_viscous_acceleration) with and without the walls; the wall side the reaction pass. Their
   // sums cancel to rounding: ~1e3 pair terms of at most ~1e2 N/m and totals ~1e3 N/m give errors
@@ -123,7 +122,6 @@ TEST_CASE("obstacle loads: mps wall pair terms are equal and opposite to what th
   CHECK(on_fluid.norm() > 1e-3);
   CHECK((on_fluid + total(reaction)).norm() < 1e-8);
 }
-
 
 TEST_CASE("obstacle loads: mps still water - the spec's gradient against the momentum-conserving CMPS one",
           "[mps][loads][hydrostatic]") {

@@ -28,11 +28,11 @@ namespace {
 //      wetted on its left face x = 0.4375 over the whole depth h = 0.275 m.
 const char* const kObstacles =
     "walls.obstacles=[{\"min\": [0.2, 0.1], \"max\": [0.3, 0.15]}, {\"min\": [0.45, 0.025], \"max\": [0.475, 0.5]}]";
-constexpr double kDensity = 1000.0;  // kg/m^3
-constexpr double kGravity = 9.81;    // m/s^2
-constexpr double kBoxArea = 0.125 * 0.075;  // m^2
-constexpr double kDepth = 0.275;            // m
-constexpr double kFreeSurface = 0.2875;     // m
+constexpr double kDensity = 1000.0;                          // kg/m^3
+constexpr double kGravity = 9.81;                            // m/s^2
+constexpr double kBoxArea = 0.125 * 0.075;                   // m^2
+constexpr double kDepth = 0.275;                             // m
+constexpr double kFreeSurface = 0.2875;                      // m
 constexpr double kPlateCentroidY = 0.5 * (0.0125 + 0.5125);  // m, the plate's surface box [0.0125, 0.5125]
 
 // Overrides that make `model` the boundary model of `method` (the others of its defaults off).
@@ -48,7 +48,7 @@ std::vector<std::string> boundary_overrides(const MethodInfo& method, const Wall
 
 struct MeanLoads {
   Vec2 box_force = Vec2::Zero(), plate_force = Vec2::Zero();  // N/m
-  double box_torque = 0.0, plate_torque = 0.0;                 // N
+  double box_torque = 0.0, plate_torque = 0.0;                // N
 };
 
 // The loads averaged over every step in [from, to] s.
@@ -75,8 +75,7 @@ MeanLoads mean_loads(Simulation& run, double from, double to) {
 
 }  // namespace
 
-TEST_CASE("obstacle loads: membership by id follows the particles and the centroid of a polygon",
-          "[walls][loads]") {
+TEST_CASE("obstacle loads: membership by id follows the particles and the centroid of a polygon", "[walls][loads]") {
   const Scene scene = load("hydrostatic.json", {kObstacles});
   const ParticleSet particles = build_particles(scene, true);
   const std::vector<std::int32_t> owner = obstacle_of_wall_particles(scene, particles);
@@ -97,7 +96,8 @@ TEST_CASE("obstacle loads: membership by id follows the particles and the centro
   CHECK(loads.reference[1].x() == Approx(0.4625));
   CHECK(loads.reference[1].y() == Approx(kPlateCentroidY));
   // A polygon's area centroid: the right triangle (0,0) (0.3,0) (0,0.3) has it at (0.1, 0.1).
-  const Scene triangle = load("hydrostatic.json", {"walls.obstacles=[{\"polygon\": [[0.1, 0.05], [0.4, 0.05], [0.1, 0.35]]}]"});
+  const Scene triangle =
+      load("hydrostatic.json", {"walls.obstacles=[{\"polygon\": [[0.1, 0.05], [0.4, 0.05], [0.1, 0.35]]}]"});
   const Vec2 c = obstacle_rest_centroid(triangle, 0);
   CHECK(c.x() == Approx(0.2).margin(1e-12));
   CHECK(c.y() == Approx(0.15).margin(1e-12));
@@ -233,8 +233,8 @@ TEST_CASE("obstacle loads: a plate towed slowly through still water - drag again
     }
     const double wet_ahead = ahead - 0.0875, wet_behind = behind - 0.0875;
     const double hydrostatic = -0.5 * kDensity * kGravity * (wet_ahead * wet_ahead - wet_behind * wet_behind);
-    WARN(method->name << ": towed plate fx " << force.x() << " N/m, fy " << force.y() << " N/m; surface ahead "
-                      << ahead << " m, behind " << behind << " m: hydrostatic difference " << hydrostatic << " N/m");
+    WARN(method->name << ": towed plate fx " << force.x() << " N/m, fy " << force.y() << " N/m; surface ahead " << ahead
+                      << " m, behind " << behind << " m: hydrostatic difference " << hydrostatic << " N/m");
     CHECK(force.x() < 0.0);
     ++runs;
   }

@@ -14,8 +14,7 @@ using namespace mps_lab;
 using namespace mps_lab::wcsph;
 using namespace mps_lab::testing;
 
-TEST_CASE("obstacle loads: wcsph wall pair terms are equal and opposite to what the fluid receives",
-          "[wcsph][loads]") {
+TEST_CASE("obstacle loads: wcsph wall pair terms are equal and opposite to what the fluid receives", "[wcsph][loads]") {
   // Fluid side: momentum() with the wall particles and with them turned into ghosts (skipped by
   // every sum), gravity 0; wall side: add_momentum_wall_reactions. ~1e3 pair terms of at most
   // ~1e2 N/m: rounding ~1e-10 N/m; 1e-8 N/m leaves a factor 100. Both viscosity models.
@@ -44,7 +43,7 @@ TEST_CASE("obstacle loads: wcsph wall pair terms are equal and opposite to what 
     viscosity.kinematic_viscosity = 1e-3;
     viscosity.eta2 = 0.01 * 1.5 * l0 * 1.5 * l0;
     const FluidState with{p, neighbours, none, kernel, mass, density, velocity, pressure, eos, Vec2::Zero(), true};
-    const FluidState without{no_walls, neighbours, none,         kernel, mass, density,
+    const FluidState without{no_walls, neighbours, none, kernel,       mass, density,
                              velocity, pressure,   eos,  Vec2::Zero(), true};
     std::vector<Vec2> a_with, a_without, reaction(p.size(), Vec2::Zero());
     momentum(with, viscosity, a_with);

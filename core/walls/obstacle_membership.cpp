@@ -57,13 +57,15 @@ Vec2 obstacle_rest_centroid(const Scene& scene, std::size_t k) {
   return sum / (3.0 * twice_area);
 }
 
-void sum_obstacle_loads(const Scene& scene, const ParticleSet& particles, const std::vector<std::int32_t>& obstacle_of_id,
-                        const std::vector<Vec2>& reaction, double time, ObstacleLoads& loads) {
+void sum_obstacle_loads(const Scene& scene, const ParticleSet& particles,
+                        const std::vector<std::int32_t>& obstacle_of_id, const std::vector<Vec2>& reaction, double time,
+                        ObstacleLoads& loads) {
   const std::size_t obstacles = scene.walls.obstacles.size();
   loads.reset(obstacles);
   for (std::size_t k = 0; k < obstacles; ++k) {
     const bool moves = k < scene.walls.motions.size() && scene.walls.motions[k].moves();
-    loads.reference[k] = obstacle_rest_centroid(scene, k) + (moves ? scene.walls.motions[k].displacement(time) : Vec2::Zero());
+    loads.reference[k] =
+        obstacle_rest_centroid(scene, k) + (moves ? scene.walls.motions[k].displacement(time) : Vec2::Zero());
   }
   for (std::size_t j = 0; j < particles.size(); ++j) {
     const std::int32_t k = obstacle_of_id[particles.id[j]];

@@ -32,7 +32,8 @@ Vec2 obstacle_rest_centroid(const Scene& scene, std::size_t k);
 // (reaction: the force the fluid puts on each particle, N/m, in the order of `particles`);
 // torque[k] = sum (x_j - c_k) x reaction[j] about c_k = the rest centroid displaced by the
 // obstacle's motion law at t (N m/m = N); reference[k] = c_k.
-void sum_obstacle_loads(const Scene& scene, const ParticleSet& particles, const std::vector<std::int32_t>& obstacle_of_id,
-                        const std::vector<Vec2>& reaction, double time, ObstacleLoads& loads);
+void sum_obstacle_loads(const Scene& scene, const ParticleSet& particles,
+                        const std::vector<std::int32_t>& obstacle_of_id, const std::vector<Vec2>& reaction, double time,
+                        ObstacleLoads& loads);
 
 }  // namespace mps_lab
