@@ -16,6 +16,7 @@
 #include "core/run/profile.hpp"
 #include "core/run/thread_governor.hpp"
 #include "core/search/cell_order.hpp"
+#include "core/walls/obstacle_membership.hpp"
 
 namespace mps_lab {
 
@@ -66,6 +67,12 @@ std::vector<std::string> series_columns(const MethodInfo& method, const Scene& s
   const std::vector<std::string> bodies = RigidBodies::series_columns(scene);  // docs/bodies.md
   columns.insert(columns.end(), bodies.begin(), bodies.end());
   columns.insert(columns.end(), method.series_columns.begin(), method.series_columns.end());
+  if (reports_obstacle_loads(scene, method)) {  // core/walls/obstacle_loads.hpp, docs/walls.md
+    for (std::size_t k = 0; k < scene.walls.obstacles.size(); ++k) {
+      const std::string name = "obstacle_" + std::to_string(k);
+      columns.insert(columns.end(), {name + "_fx", name + "_fy", name + "_torque"});  // N/m, N/m, N
+    }
+  }
   return columns;
 }
 
@@ -96,6 +103,16 @@ void check_moving_walls(const Scene& scene, const MethodInfo& method, const Meth
                     why + " (docs/walls.md, \"Moving walls\")");
 }
 
+// A body moves under the fluid's load: the run must be able to report it (core/run/method.hpp).
+void check_body_loads(const Scene& scene, const MethodInfo& method) {
+  for (std::size_t k = 0; k < scene.walls.obstacles.size(); ++k) {
+    if (!scene.walls.is_body(k) || reports_obstacle_loads(scene, method)) continue;
+    throw_input_error(
+        scene.source, "walls.obstacles[" + std::to_string(k) + "].body",
+        "a body needs the fluid's load on it, but " + obstacle_loads_gap(scene, method) + " (docs/bodies.md)");
+  }
+}
+
 }  // namespace
 
 Simulation::Simulation(const Scene& scene, const MethodInfo& info, PressureSystemObserver pressure_system_observer)
@@ -104,12 +121,15 @@ Simulation::Simulation(const Scene& scene, const MethodInfo& info, PressureSyste
       particles_(build_particles(scene, wants_wall_particles(scene, info))),
       moving_walls_(scene, particles_),
       bodies_(scene),
+      obstacle_of_id_(obstacle_of_wall_particles(scene, particles_)),
+      reports_loads_(mps_lab::reports_obstacle_loads(scene, info)),
       monitor_(scene, scene.stability),
       sensors_(scene) {
   for (const auto& field : info.fields) particles_.add_field(field.name);
   const MethodConfig& config = scene.method_config(info.name);
   check_moving_walls(scene, info, config);
-  fluid_loads_.reset(scene.walls.obstacles.size());
+  check_body_loads(scene, info);
+  loads_.reset(scene.walls.obstacles.size());
   place_moving_walls(0.0);
   method_ = info.create(
       MethodSetup{scene, config.parameters, config.wall_treatments, &timers_, std::move(pressure_system_observer)});
@@ -165,9 +185,9 @@ const StepReport& Simulation::advance() {
     throw std::logic_error("method '" + info_.name + "' reported " + std::to_string(report_.extra.size()) +
                            " statistics for " + std::to_string(info_.series_columns.size()) + " declared columns");
   }
-  // The bodies after the method's step, under this step's fluid load (zero until the methods
-  // report it: fluid_loads_).
-  bodies_.advance(dt, fluid_loads_);
+  // The bodies after the method's step, under this step's fluid load (docs/bodies.md).
+  sum_loads(next_time);
+  bodies_.advance(dt, loads_);
   ++steps_;
   time_compensation_ = (next_time - time_) - increment;
   time_ = next_time;
@@ -178,6 +198,26 @@ const StepReport& Simulation::advance() {
   monitor_.check_step(particles_, report_, steps_, time_, dt);  // throws RunStopped
   sensors_.sample(particles_, dt);
   return report_;
+}
+
+// The loads on the obstacles from the method's reaction on wall particles of the step that ends at t (s).
+void Simulation::sum_loads(double t) {
+  if (!reports_loads_) return;
+  const std::vector<Vec2>* reaction = method_->wall_reactions();
+  if (reaction == nullptr || reaction->size() != particles_.size()) {
+    throw std::logic_error("method '" + info_.name + "' declares obstacle_loads but reported no reaction on its " +
+                           std::to_string(particles_.size()) + " particles");
+  }
+  sum_obstacle_loads(scene_, particles_, obstacle_of_id_, *reaction, t, loads_);
+  // A body's load about where its centre of mass is in this step (the pose the fluid saw):
+  // T_c = T_ref + (ref - x_c) x F.
+  for (std::size_t b = 0; b < bodies_.size(); ++b) {
+    const std::size_t k = bodies_.obstacle(b);
+    const Vec2 centre = bodies_.state(b).position;
+    const Vec2 arm = loads_.reference[k] - centre;
+    loads_.torque[k] += arm.x() * loads_.force[k].y() - arm.y() * loads_.force[k].x();
+    loads_.reference[k] = centre;
+  }
 }
 
 void Simulation::run_to(double end_time) {
@@ -475,6 +515,9 @@ nlohmann::json new_run_summary(const RunOptions& options, const RunSetup& setup,
   // Spec §3 note: the original code had static arrays of 10000 particles; this core has no
   // limit, but says so when a scene goes beyond what the validation runs covered.
   summary["notes"] = nlohmann::json::array();
+  if (!obstacle_loads_gap(scene, info).empty()) {  // a scene with obstacles whose loads this run cannot report
+    summary["notes"].push_back("no obstacle_<k> load columns: " + obstacle_loads_gap(scene, info));
+  }
   if (particles > kTestedParticles) {
     const std::string note = std::to_string(particles) +
                              " particles: beyond the 10000 of the specification's original code (spec §3) and the "
@@ -616,7 +659,7 @@ void RunSession::write_starting_summary() {
 
 // A row of series.csv (series_columns): the step, the flow measures, the solver and the
 // monitor, the sensors (mean and peak since the previous row, which starts a new interval),
-// then the method's columns (zeros before the first step).
+// then the method's columns (zeros before the first step), then the loads on the obstacles.
 std::vector<double> RunSession::series_row(const FlowMeasures& measures) {
   const StepReport& report = simulation_.last_report();
   std::vector<double> row = {static_cast<double>(simulation_.steps()),
@@ -643,6 +686,14 @@ std::vector<double> RunSession::series_row(const FlowMeasures& measures) {
     row.resize(row.size() + info_.series_columns.size(), 0.0);
   } else {
     row.insert(row.end(), report.extra.begin(), report.extra.end());
+  }
+  if (simulation_.reports_obstacle_loads()) {  // the last step's loads; zeros before the first step
+    const ObstacleLoads& loads = simulation_.obstacle_loads();
+    for (std::size_t k = 0; k < scene_.walls.obstacles.size(); ++k) {
+      const bool known = k < loads.size();
+      row.insert(row.end(),
+                 {known ? loads.force[k].x() : 0.0, known ? loads.force[k].y() : 0.0, known ? loads.torque[k] : 0.0});
+    }
   }
   return row;
 }

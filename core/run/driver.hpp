@@ -62,6 +62,10 @@ class Simulation {
   // series row takes their mean and peak since the previous row (take_row).
   PressureSensorRecord& pressure_sensors() { return sensors_; }
   const PressureSensorRecord& pressure_sensors() const { return sensors_; }
+  // The fluid's load on each obstacle in the last step (core/walls/obstacle_loads.hpp); empty when
+  // the run does not report them (reports_obstacle_loads, core/run/method.hpp) or before a step.
+  const ObstacleLoads& obstacle_loads() const { return loads_; }
+  bool reports_obstacle_loads() const { return reports_loads_; }
   // Totals over all steps so far.
   long long total_solver_iterations() const { return total_iterations_; }
   long long max_solver_iterations() const { return max_iterations_; }
@@ -80,6 +84,7 @@ class Simulation {
   // members and the method's per-particle state (Method::permute_state) in cell-major order.
   void reorder_by_cell();
   void place_moving_walls(double t);
+  void sum_loads(double t);
 
   PhaseTimers timers_;  // first: the constructor's own time is its "setup" phase
   PhaseTimers::Clock::time_point setup_started_ = PhaseTimers::Clock::now();
@@ -88,11 +93,13 @@ class Simulation {
   const Scene& scene_;
   const MethodInfo& info_;
   ParticleSet particles_;
-  MovingWalls moving_walls_;  // obstacles with a motion law or a body (empty: every wall fixed)
-  RigidBodies bodies_;        // obstacles with a body block
-  // The fluid's load on each obstacle (core/walls/obstacle_loads.hpp) that moves the bodies:
-  // zero until the methods report it (the lead wires Method's ObstacleLoads in here, in advance()).
-  ObstacleLoads fluid_loads_;
+  MovingWalls moving_walls_;                  // obstacles with a motion law or a body (empty: every wall fixed)
+  RigidBodies bodies_;                        // obstacles with a body block
+  std::vector<std::int32_t> obstacle_of_id_;  // per particle id (core/walls/obstacle_membership.hpp)
+  bool reports_loads_ = false;
+  // The fluid's load on each obstacle in the last step (core/walls/obstacle_loads.hpp); it moves
+  // the bodies (advance()).
+  ObstacleLoads loads_;
   std::unique_ptr<Method> method_;
   StabilityMonitor monitor_;
   PressureSensorRecord sensors_;

@@ -79,6 +79,12 @@ class Method {
   // reordering against the same run without. The default suits a method that keeps nothing per
   // particle between steps.
   virtual void permute_state(const ParticleOrder&) {}
+  // Loads on obstacles (MethodInfo::obstacle_loads, docs/walls.md "Loads on obstacles"): the force
+  // the fluid put on each wall particle in the last step, N/m, one entry per particle in the
+  // current order (zero for fluid): minus the sum over its fluid neighbours i of m_i times the
+  // acceleration its pair terms (pressure and viscosity) gave i. Computed in every step of a
+  // scene with obstacles and a boundary model of wall particles; null otherwise (the default).
+  virtual const std::vector<Vec2>* wall_reactions() const { return nullptr; }
 };
 
 struct MethodSetup {
@@ -116,6 +122,10 @@ struct MethodInfo {
   // scene with a moving obstacle runs only with such a method and a boundary model that moves
   // its walls (WallTreatmentInfo::moving_walls).
   bool moving_walls = false;
+  // True when, with every boundary model of wall particles it implements, its step computes the
+  // fluid's reaction on each wall particle (Method::wall_reactions): the driver then sums it into
+  // the load on every obstacle (core/walls/obstacle_loads.hpp) and writes it to series.csv.
+  bool obstacle_loads = false;
   std::function<std::unique_ptr<Method>(const MethodSetup&)> create;
 };
 
@@ -140,6 +150,12 @@ bool wall_treatment_supports(const WallTreatmentInfo& wall, const MethodInfo& me
 // Why not, in a phrase for an error message ("it acts at after_explicit_velocity, which 'x'
 // does not call"); empty when the method may use the treatment.
 std::string wall_treatment_support_gap(const WallTreatmentInfo& wall, const MethodInfo& method);
+
+// Whether a run of `method` on `scene` reports the loads on its obstacles: the scene has obstacles,
+// the method declares obstacle_loads and the scene's boundary model for it is made of wall particles.
+bool reports_obstacle_loads(const Scene& scene, const MethodInfo& method);
+// Why a scene with obstacles gets no loads from `method`, in a phrase; empty when it does or has none.
+std::string obstacle_loads_gap(const Scene& scene, const MethodInfo& method);
 
 // Every method compiled into this build (generated from methods/*/).
 MethodRegistry builtin_methods();

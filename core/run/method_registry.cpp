@@ -2,6 +2,7 @@
 #include <algorithm>
 #include <stdexcept>
 
+#include "core/io/scene.hpp"
 #include "core/run/method.hpp"
 #include "core/walls/wall_treatment.hpp"
 
@@ -67,6 +68,21 @@ std::string wall_treatment_support_gap(const WallTreatmentInfo& wall, const Meth
 
 bool wall_treatment_supports(const WallTreatmentInfo& wall, const MethodInfo& method) {
   return wall_treatment_support_gap(wall, method).empty();
+}
+
+std::string obstacle_loads_gap(const Scene& scene, const MethodInfo& method) {
+  if (scene.walls.obstacles.empty()) return "";
+  if (!method.obstacle_loads) return "method '" + method.name + "' does not compute the reaction on wall particles";
+  const WallTreatmentChoice* boundary = boundary_choice(scene.method_config(method.name).wall_treatments);
+  if (boundary == nullptr || !boundary->info->wall_particles) {
+    return "the boundary model " + (boundary != nullptr ? boundary->info->name : std::string("(none)")) +
+           " has no wall particles to carry the reaction";
+  }
+  return "";
+}
+
+bool reports_obstacle_loads(const Scene& scene, const MethodInfo& method) {
+  return !scene.walls.obstacles.empty() && obstacle_loads_gap(scene, method).empty();
 }
 
 }  // namespace mps_lab

@@ -113,6 +113,8 @@ class DfsphMethod final : public Method {
     const double l0 = scene_.particle_spacing;
     rest_density_ = scene_.physics.density;
     particle_mass_ = rest_density_ * l0 * l0;  // 2-D: kg per metre of depth
+    // Loads on obstacles (MethodInfo::obstacle_loads): the reaction on wall particles, when there are both.
+    computes_reactions_ = !scene_.walls.obstacles.empty() && walls_.wall_particles();
     time_step_settings_ = time_step_settings(p, scene_.time.time_step, scene_.source);
     const double warm_start_fraction = p.number("warm_start_fraction");
     density_settings_ = solver_settings(p, "density", warm_start_fraction);
@@ -200,6 +202,7 @@ class DfsphMethod final : public Method {
     WallContext context{particles, &neighbours_, dt, scene_};
     find_neighbourhoods(particles, context);  // 1.
     const SphSystem sph = system();
+    if (computes_reactions_) reaction_.assign(particles.size(), Vec2::Zero());
     const double compression = densities_and_factors(particles, sph);       // 2.
     const SolverOutcome divergence = solve_divergence(particles, sph, dt);  // 3.
     add_non_pressure_forces(particles, sph);                                // 4.
@@ -282,6 +285,8 @@ class DfsphMethod final : public Method {
   }
 
   // Cell-ordered particles (core/search/cell_order.hpp): what save_state keeps per particle.
+  const std::vector<Vec2>* wall_reactions() const override { return computes_reactions_ ? &reaction_ : nullptr; }
+
   void permute_state(const ParticleOrder& order) override {
     permute_values(boundary_mass_, order);
     permute_values(density_stiffness_, order);
@@ -354,6 +359,10 @@ class DfsphMethod final : public Method {
       if (scene_.physics.kinematic_viscosity > 0.0) {
         add_viscous_acceleration(particles, sph, density, scene_.physics.kinematic_viscosity, kernel_.support(),
                                  acceleration_);
+        if (computes_reactions_) {  // its boundary terms' reaction, before v changes
+          add_boundary_viscous_reactions(particles, sph, kernel_, density, scene_.physics.kinematic_viscosity,
+                                         reaction_);
+        }
       }
       if (sample_hydrostatic_) add_sample_hydrostatic_acceleration(particles, sph, density, gravity, acceleration_);
       if (wall_pressure_ == WallPressure::Extrapolated) {
@@ -417,6 +426,11 @@ class DfsphMethod final : public Method {
     // The pressure the step applied, in Pa, and 8. advection. Both solvers applied the
     // pressure-force operator at x^n during this step, so the momentum the step gave is that
     // of p = (kappa + kappa^v) rho (docs/methods/dfsph.md).
+    if (computes_reactions_) {  // the solvers' boundary terms' reaction, at x^n
+      const auto timed = measure(timers_, operators_phase_);
+      add_boundary_pressure_reactions(particles, sph, kernel_, density, density_stiffness_, divergence_stiffness_,
+                                      reaction_);
+    }
     {
       const auto timed = measure(timers_, integration_phase_);
       auto& divergence_pressure = particles.field("divergence_pressure");
@@ -529,8 +543,10 @@ class DfsphMethod final : public Method {
   KernelCache cache_;
   WallSampleList samples_;  // wall samples of this step (boundary models without wall particles)
   SampleCache sample_cache_;
-  WallPressureStencil wall_stencil_;          // wall_pressure = extrapolated: this step's boundary extrapolation
-  std::vector<double> boundary_mass_;         // Psi_b, kg/m
+  WallPressureStencil wall_stencil_;   // wall_pressure = extrapolated: this step's boundary extrapolation
+  std::vector<double> boundary_mass_;  // Psi_b, kg/m
+  bool computes_reactions_ = false;
+  std::vector<Vec2> reaction_;                // the fluid's force on each wall particle in this step, N/m
   std::vector<double> density_stiffness_;     // kappa_i of the density solver, m^2/s^2
   std::vector<double> divergence_stiffness_;  // kappa^v_i of the divergence solver, m^2/s^2
   std::vector<Vec2> acceleration_;            // non-pressure acceleration of the last step, m/s^2
@@ -614,6 +630,8 @@ void mps_lab_register_method_dfsph(mps_lab::MethodRegistry& registry) {
   info.wall_samples = true;  // its operators sum over wall samples (core/walls/wall_samples.hpp)
   info.wall_particle_models = {WallParticlePressure::AkinciMirrored};  // akinci_boundary
   info.moving_walls = true;  // wall velocity in the viscous term and the wall pressure (docs/walls.md, "Moving walls")
+  info.obstacle_loads =
+      true;  // [AIA12] eq. (10)'s reaction on boundary particles (docs/walls.md, "Loads on obstacles")
   info.wall_hooks = dfsph::kWallHooks;
   info.create = [](const MethodSetup& setup) { return std::make_unique<dfsph::DfsphMethod>(setup); };
   registry.add(std::move(info));

@@ -8,6 +8,7 @@
 #include <utility>
 
 #include "core/search/for_each_neighbour.hpp"
+#include "core/walls/wall_reactions.hpp"
 
 namespace mps_lab::dfsph {
 
@@ -280,8 +281,7 @@ void add_viscous_acceleration(const ParticleSet& particles, const SphSystem& sys
         return;
       }
       const Vec2 r_ij = particles.position[i] - particles.position[j];
-      const double weight = r_ij.dot(system.kernel.gradient[k]) / (r_ij.squaredNorm() + eta2);  // 1/m^2
-      sum += mass * (rho_i + rho_j) / (rho_i * rho_j) * weight * (particles.velocity[i] - vj);  // [MFZ97] eq. (8)
+      sum += viscous_pair(mass, rho_i, rho_j, r_ij, system.kernel.gradient[k], eta2, particles.velocity[i], vj);
     });
     if (system.has_samples()) {
       const auto& w = *system.sample_kernel;
@@ -296,42 +296,94 @@ void add_viscous_acceleration(const ParticleSet& particles, const SphSystem& sys
   }
 }
 
-void compute_boundary_pressures(ParticleSet& particles, const SphSystem& system, const SphKernel& kernel,
-                                const std::vector<double>& density, double face_length) {
-  const auto& list = system.neighbours;
-  const double m = system.particle_mass;
-  const auto n = static_cast<std::ptrdiff_t>(particles.size());
-  // wall_pressure = extrapolated: the boundary particle's own s_b = p_b / rho0^2 ([AHA12] eq. (27))
-  // enters the reaction as it entered the solvers' symmetric wall term; 0 for mirrored.
-  std::vector<double> wall_s(particles.size(), 0.0);
-  if (system.wall_pressure != nullptr) {
-    const WallPressureStencil& stencil = *system.wall_pressure;
-    const double rho0 = system.rest_density;
-    for (std::size_t r = 0; r < stencil.boundary.size(); ++r) {
-      const std::uint32_t b = stencil.boundary[r];
-      double pressure = 0.0;  // sum_f weight_bf p_f, Pa
-      for (std::uint32_t k = stencil.offsets[r]; k < stencil.offsets[r + 1]; ++k) {
-        pressure += stencil.weight[k] * particles.pressure[stencil.fluid[k]];
-      }
-      wall_s[b] = pressure / (rho0 * rho0) + stencil.hydrostatic[b];
-    }
+namespace {
+
+// s_b of every boundary particle (0 elsewhere): 0 under wall_pressure = mirrored; under
+// extrapolated the wall's own p_b / rho0^2 from the fluid's s_f = p_f / rho_f^2 ([AHA12] eq. (27),
+// extrapolated_wall_stiffness) plus its hydrostatic part, m^5/(kg s^2).
+std::vector<double> boundary_wall_stiffness(const SphSystem& system, const std::vector<double>& s,
+                                            const std::vector<double>& density) {
+  std::vector<double> wall_s(s.size(), 0.0);
+  if (system.wall_pressure == nullptr) return wall_s;
+  const WallPressureStencil& stencil = *system.wall_pressure;
+  for (std::size_t r = 0; r < stencil.boundary.size(); ++r) {
+    const std::uint32_t b = stencil.boundary[r];
+    wall_s[b] =
+        extrapolated_wall_stiffness(stencil, r, s.data(), density, system.rest_density) + stencil.hydrostatic[b];
   }
+  return wall_s;
+}
+
+// The reaction of every boundary particle to fluid whose s_f is `s` (boundary_pressure_force).
+template <class Use>
+void for_each_boundary_force(const ParticleSet& particles, const SphSystem& system, const SphKernel& kernel,
+                             const std::vector<double>& s, const std::vector<double>& density, Use use) {
+  const std::vector<double> wall_s = boundary_wall_stiffness(system, s, density);
+  const auto n = static_cast<std::ptrdiff_t>(particles.size());
 #pragma omp parallel for schedule(static) if (n >= kThreadedLoopMinimum)
   for (std::ptrdiff_t b = 0; b < n; ++b) {
-    if (particles.type[b] != ParticleType::Wall) continue;
-    Vec2 force = Vec2::Zero();  // N per metre of depth
-    if (system.boundary_mass[b] > 0.0) {
-      for_each_neighbour(list, b, [&](std::uint32_t f) {
-        if (particles.type[f] != ParticleType::Fluid) return;
-        // Reaction to the boundary term of the solvers' pressure correction on f:
-        // m Psi_b (p_f / rho_f^2) grad_f W_fb, and grad_f W_fb = -grad_b W_bf (evaluated here:
-        // the step's kernel cache holds the rows of fluid particles only).
-        const double s_f = particles.pressure[f] / (density[f] * density[f]) + wall_s[b];
-        force -= m * system.boundary_mass[b] * s_f * kernel.gradient(particles.position[b] - particles.position[f]);
-      });
-    }
-    particles.pressure[b] = force.norm() / face_length;
+    if (particles.type[b] == ParticleType::Wall)
+      use(b, boundary_pressure_force(particles, system, kernel, b, s, wall_s[b]));
   }
+}
+
+}  // namespace
+
+void compute_boundary_pressures(ParticleSet& particles, const SphSystem& system, const SphKernel& kernel,
+                                const std::vector<double>& density, double face_length) {
+  std::vector<double> s(particles.size(), 0.0);  // p_f / rho_f^2 of the fluid particles
+  for (std::size_t f = 0; f < particles.size(); ++f) {
+    if (particles.type[f] == ParticleType::Fluid) s[f] = particles.pressure[f] / (density[f] * density[f]);
+  }
+  for_each_boundary_force(particles, system, kernel, s, density, [&](std::ptrdiff_t b, const Vec2& force) {
+    particles.pressure[b] = force.norm() / face_length;
+  });
+}
+
+Vec2 boundary_pressure_force(const ParticleSet& particles, const SphSystem& system, const SphKernel& kernel,
+                             std::size_t b, const std::vector<double>& s, double wall_s) {
+  const double m = system.particle_mass;
+  Vec2 force = Vec2::Zero();  // N per metre of depth
+  if (system.boundary_mass[b] <= 0.0) return force;
+  for_each_neighbour(system.neighbours, b, [&](std::uint32_t f) {
+    if (particles.type[f] != ParticleType::Fluid) return;
+    // Reaction to the boundary term of the solvers' pressure correction on f:
+    // m Psi_b (s_f + s_b) grad_f W_fb, and grad_f W_fb = -grad_b W_bf (evaluated here:
+    // the step's kernel cache holds the rows of fluid particles only).
+    force -=
+        m * system.boundary_mass[b] * (s[f] + wall_s) * kernel.gradient(particles.position[b] - particles.position[f]);
+  });
+  return force;
+}
+
+void add_boundary_pressure_reactions(const ParticleSet& particles, const SphSystem& system, const SphKernel& kernel,
+                                     const std::vector<double>& density, const std::vector<double>& density_stiffness,
+                                     const std::vector<double>& divergence_stiffness, std::vector<Vec2>& reaction) {
+  const std::size_t count = particles.size();
+  std::vector<double> s(count, 0.0);  // the corrections' total s_f, m^5/(kg s^2)
+  for (std::size_t f = 0; f < count; ++f) {
+    if (particles.type[f] == ParticleType::Fluid) s[f] = (density_stiffness[f] + divergence_stiffness[f]) / density[f];
+  }
+  for_each_boundary_force(particles, system, kernel, s, density,
+                          [&](std::ptrdiff_t b, const Vec2& force) { reaction[b] += force; });
+}
+
+void add_boundary_viscous_reactions(const ParticleSet& particles, const SphSystem& system, const SphKernel& kernel,
+                                    const std::vector<double>& density, double kinematic_viscosity,
+                                    std::vector<Vec2>& reaction) {
+  const double h = 0.5 * kernel.support();
+  const double eta2 = 0.01 * h * h;  // as add_viscous_acceleration
+  const double m = system.particle_mass;
+  add_wall_reactions(
+      particles, system.neighbours,
+      [&](std::size_t f, std::size_t b) -> Vec2 {
+        if (!is_boundary(particles, system, b)) return Vec2::Zero();
+        const Vec2 r_fb = particles.position[f] - particles.position[b];
+        return (m * kinematic_viscosity) * viscous_pair(system.boundary_mass[b], density[f], system.rest_density, r_fb,
+                                                        kernel.gradient(r_fb), eta2, particles.velocity[f],
+                                                        particles.prescribed_wall_velocity(b));
+      },
+      reaction);
 }
 
 void count_active_neighbours(const ParticleSet& particles, const SphSystem& system, std::vector<double>& counts) {

@@ -228,6 +228,15 @@ void compute_dfsph_factors(const ParticleSet& particles, const SphSystem& system
 // particles only, others 0.
 void compute_density_change_rate(const ParticleSet& particles, const SphSystem& system, std::vector<double>& rate);
 
+// The pair term of [MFZ97] eq. (8) (without nu): what neighbour j (mass m_j, density rho_j, velocity
+// v_j; r_ij = x_i - x_j, grad W_ij) adds to the viscous acceleration of i, 1/s per m^2/s. Shared by
+// add_viscous_acceleration and the reaction on boundary particles (add_boundary_viscous_reactions).
+inline Vec2 viscous_pair(double mass_j, double rho_i, double rho_j, const Vec2& r_ij, const Vec2& gradient, double eta2,
+                         const Vec2& v_i, const Vec2& v_j) {
+  const double weight = r_ij.dot(gradient) / (r_ij.squaredNorm() + eta2);  // 1/m^2
+  return mass_j * (rho_i + rho_j) / (rho_i * rho_j) * weight * (v_i - v_j);
+}
+
 // Laminar viscosity of [MFZ97] eq. (8) with mu = rho nu:
 //   a_i += sum_j m_j nu (rho_i + rho_j) / (rho_i rho_j) (r_ij . grad W_ij) / (|r_ij|^2 + eta^2) (v_i - v_j),
 // r_ij = x_i - x_j, eta = 0.1 h (h = support / 2). Boundary neighbours count with mass
@@ -245,6 +254,14 @@ void add_viscous_acceleration(const ParticleSet& particles, const SphSystem& sys
 // On a flat wall this is the wall pressure; summed over a wall it is the force the fluid
 // exerts on it (momentum balance). 0 for wall particles without fluid neighbours.
 // Evaluates grad W itself (`kernel`): it reads the rows of boundary particles.
+//
+// boundary_pressure_force: that force on boundary particle b, N/m, with `s[f]` the stiffness over
+// density of each fluid neighbour f (p_f / rho_f^2, m^5/(kg s^2)) and `wall_s` the wall's own s_b:
+// sum_f m Psi_b (s_f + s_b) grad_f W_fb, [AIA12] eq. (10) with its reaction F_b = -F_f. Shared with
+// add_boundary_pressure_reactions (which takes s_b of wall_pressure = extrapolated from the
+// stiffness the same way, plus the hydrostatic part the step applies explicitly).
+Vec2 boundary_pressure_force(const ParticleSet& particles, const SphSystem& system, const SphKernel& kernel,
+                             std::size_t b, const std::vector<double>& s, double wall_s);
 void compute_boundary_pressures(ParticleSet& particles, const SphSystem& system, const SphKernel& kernel,
                                 const std::vector<double>& density, double face_length);
 
@@ -285,5 +302,20 @@ void hydrostatic_stiffness(const ParticleSet& particles, const NeighbourList& ne
 // core/kernels/sph_kernels.hpp.)
 // Points (i, j) != 0 of that lattice within the support: the full neighbour count.
 std::uint32_t lattice_neighbour_count(double support, double spacing);
+
+// The fluid's reaction on boundary particles in this step (docs/walls.md, "Loads on obstacles"),
+// N/m, added to `reaction`; 0 on other particles. Pressure: both solvers move fluid particle f by
+// -dt s_f Psi_b grad_f W_fb per correction (dfsph_solvers.cpp, correct), and the corrections' s_f
+// add up to (kappa_f + kappa^v_f) / rho_f, the solvers' total stiffnesses: the force on f is
+// -m Psi_b (kappa_f + kappa^v_f) / rho_f grad_f W_fb ([AIA12] eq. (10)), its reaction is
+// boundary_pressure_force with those s_f. Call it at the positions of the solves (before advection).
+void add_boundary_pressure_reactions(const ParticleSet& particles, const SphSystem& system, const SphKernel& kernel,
+                                     const std::vector<double>& density, const std::vector<double>& density_stiffness,
+                                     const std::vector<double>& divergence_stiffness, std::vector<Vec2>& reaction);
+// Viscosity: minus m nu viscous_pair over the fluid neighbours f of each boundary particle b (mass
+// Psi_b, density rho0, its prescribed velocity), as add_viscous_acceleration gives f.
+void add_boundary_viscous_reactions(const ParticleSet& particles, const SphSystem& system, const SphKernel& kernel,
+                                    const std::vector<double>& density, double kinematic_viscosity,
+                                    std::vector<Vec2>& reaction);
 
 }  // namespace mps_lab::dfsph

@@ -77,6 +77,8 @@ class EisphMethod final : public Method {
     const double h = p.number("smoothing_length") * l0;
     rest_density_ = scene_.physics.density;
     mass_ = rest_density_ / lattice_kernel_sum(kernel_, l0);
+    // Loads on obstacles (MethodInfo::obstacle_loads): the reaction on wall particles, when there are both.
+    computes_reactions_ = !scene_.walls.obstacles.empty() && walls_.wall_particles();
     const double eta = kEtaOverSmoothingLength * h;
     settings_ = {rest_density_, mass_, eta * eta, scene_.physics.gravity, p.number("relaxation_factor")};
     source_term_ = p.string("source_term");
@@ -162,6 +164,8 @@ class EisphMethod final : public Method {
   }
 
   // Cell-ordered particles (core/search/cell_order.hpp): what save_state keeps per particle.
+  const std::vector<Vec2>* wall_reactions() const override { return computes_reactions_ ? &reaction_ : nullptr; }
+
   void permute_state(const ParticleOrder& order) override {
     permute_neighbour_list(neighbours_, order);
     permute_wall_samples(samples_, order);
@@ -183,6 +187,13 @@ class EisphMethod final : public Method {
         isph::add_viscous_acceleration(particles, neighbours_, samples_, kernel_, mass_, rest_density_field_,
                                        rest_density_, scene_.physics.kinematic_viscosity, settings_.eta2,
                                        acceleration_);
+      }
+      if (computes_reactions_) {  // the reaction of its wall pairs (isph's), before u changes
+        reaction_.assign(particles.size(), Vec2::Zero());
+        if (scene_.physics.kinematic_viscosity > 0.0) {
+          isph::add_viscous_wall_reactions(particles, neighbours_, kernel_, mass_, rest_density_field_,
+                                           scene_.physics.kinematic_viscosity, settings_.eta2, reaction_);
+        }
       }
     }
     {  // u* = u^n + dt a
@@ -277,7 +288,12 @@ class EisphMethod final : public Method {
       const auto timed = measure(timers_, operators_phase_);
       isph::pressure_acceleration(particles, neighbours_, samples_,
                                   {rest_density_, scene_.physics.gravity, clamp_negative_pressure_}, kernel_, mass_,
-                                  rest_density_field_, free_surface, gradient_form_, acceleration_);
+                                  rest_density_field_, free_surface, gradient_form_, acceleration_,
+                                  computes_reactions_ ? &renormalisation_ : nullptr);
+      if (computes_reactions_) {
+        isph::add_pressure_wall_reactions(particles, neighbours_, kernel_, mass_, rest_density_field_, free_surface,
+                                          gradient_form_, renormalisation_, reaction_);
+      }
     }
     {
       const auto timed = measure(timers_, integration_phase_);
@@ -337,13 +353,16 @@ class EisphMethod final : public Method {
   StepLimits limits_;
   CellList cells_;
   NeighbourList neighbours_;
-  WallSampleList samples_;                  // of the boundary model, at the positions of the last search
-  std::vector<Vec2> acceleration_;          // m/s^2
-  std::vector<Vec2> predicted_velocity_;    // m/s
-  std::vector<double> source_;              // 1/s^2
-  std::vector<double> previous_pressure_;   // p^n, Pa
-  std::vector<double> rest_density_field_;  // rho0 for every particle
-  TimeStepSettings time_step_settings_;     // core/run/time_step.hpp
+  WallSampleList samples_;          // of the boundary model, at the positions of the last search
+  std::vector<Vec2> acceleration_;  // m/s^2
+  bool computes_reactions_ = false;
+  std::vector<Vec2> reaction_;                    // the fluid's force on each wall particle in this step, N/m
+  std::vector<Eigen::Matrix2d> renormalisation_;  // L_i of the step's pressure gradient
+  std::vector<Vec2> predicted_velocity_;          // m/s
+  std::vector<double> source_;                    // 1/s^2
+  std::vector<double> previous_pressure_;         // p^n, Pa
+  std::vector<double> rest_density_field_;        // rho0 for every particle
+  TimeStepSettings time_step_settings_;           // core/run/time_step.hpp
   TimeStepClock clock_;
   std::size_t ghosts_ = 0;
 };
@@ -407,6 +426,7 @@ void mps_lab_register_method_eisph(mps_lab::MethodRegistry& registry) {
   info.default_wall_treatments = {"adami_wall_particles", "wall_position_clamp"};
   info.wall_samples = true;  // every operator and the sweep also sum over wall samples
   info.wall_particle_models = {WallParticlePressure::AdamiExtrapolated};  // adami_wall_particles
+  info.obstacle_loads = true;  // isph's wall pair terms and their reaction (docs/walls.md, "Loads on obstacles")
   info.wall_hooks = eisph::kWallHooks;
   const auto time_step_specs =
       time_step_parameters({"cfl", 0.2, 1.0e-6, 2.0e-3,

@@ -70,6 +70,8 @@ class IsphMethod final : public Method {
     rest_density_ = scene_.physics.density;
     mass_ = rest_density_ / lattice_kernel_sum(kernel_, l0);
     eta2_ = (kEtaOverSmoothingLength * h) * (kEtaOverSmoothingLength * h);
+    // Loads on obstacles (MethodInfo::obstacle_loads): the reaction on wall particles, when there are both.
+    computes_reactions_ = !scene_.walls.obstacles.empty() && walls_.wall_particles();
     source_term_ = source_term_from_name(p.string("source_term"));
     density_relaxation_ = p.number("density_relaxation");
     free_surface_rule_ =
@@ -184,6 +186,8 @@ class IsphMethod final : public Method {
   }
 
   // Cell-ordered particles (core/search/cell_order.hpp): what save_state keeps per particle.
+  const std::vector<Vec2>* wall_reactions() const override { return computes_reactions_ ? &reaction_ : nullptr; }
+
   void permute_state(const ParticleOrder& order) override {
     permute_neighbour_list(neighbours_, order);
     permute_wall_samples(samples_, order);
@@ -210,9 +214,14 @@ class IsphMethod final : public Method {
       for (std::ptrdiff_t i = 0; i < count; ++i) {
         acceleration_[i] = particles.type[i] == ParticleType::Fluid ? gravity : Vec2::Zero();
       }
+      if (computes_reactions_) reaction_.assign(particles.size(), Vec2::Zero());
       if (scene_.physics.kinematic_viscosity > 0.0) {
         add_viscous_acceleration(particles, neighbours_, samples_, kernel_, mass_, operator_density(density),
                                  rest_density_, scene_.physics.kinematic_viscosity, eta2_, acceleration_);
+        if (computes_reactions_) {  // its wall terms' reaction, before u changes
+          add_viscous_wall_reactions(particles, neighbours_, kernel_, mass_, operator_density(density),
+                                     scene_.physics.kinematic_viscosity, eta2_, reaction_);
+        }
       }
     }
     {  // u* = u^n + dt a
@@ -296,7 +305,12 @@ class IsphMethod final : public Method {
     {
       const auto timed = measure(timers_, operators_phase_);
       pressure_acceleration(particles, neighbours_, samples_, {rest_density_, gravity, clamp_negative_pressure_},
-                            kernel_, mass_, rho, free_surface, gradient_form_, acceleration_);
+                            kernel_, mass_, rho, free_surface, gradient_form_, acceleration_,
+                            computes_reactions_ ? &renormalisation_ : nullptr);
+      if (computes_reactions_) {
+        add_pressure_wall_reactions(particles, neighbours_, kernel_, mass_, rho, free_surface, gradient_form_,
+                                    renormalisation_, reaction_);
+      }
     }
     {
       const auto timed = measure(timers_, integration_phase_);
@@ -429,11 +443,14 @@ class IsphMethod final : public Method {
   NeighbourList neighbours_;
   WallSampleList samples_;  // of the boundary model, at the positions of the last search
   PressurePoissonSolver ppe_;
-  std::vector<Vec2> acceleration_;        // m/s^2
-  std::vector<Vec2> predicted_velocity_;  // m/s
-  std::vector<Vec2> start_position_;      // r^n (trapezoidal update only)
-  std::vector<Vec2> start_velocity_;      // u^n (trapezoidal update only)
-  std::vector<double> source_;            // 1/s^2
+  std::vector<Vec2> acceleration_;  // m/s^2
+  bool computes_reactions_ = false;
+  std::vector<Vec2> reaction_;                    // the fluid's force on each wall particle in this step, N/m
+  std::vector<Eigen::Matrix2d> renormalisation_;  // L_i of the step's pressure gradient
+  std::vector<Vec2> predicted_velocity_;          // m/s
+  std::vector<Vec2> start_position_;              // r^n (trapezoidal update only)
+  std::vector<Vec2> start_velocity_;              // u^n (trapezoidal update only)
+  std::vector<double> source_;                    // 1/s^2
   std::vector<double> position_divergence_;
   std::vector<double> rest_density_field_;  // rho0 for every particle
   bool use_summation_density_ = false;
@@ -529,6 +546,7 @@ void mps_lab_register_method_isph(mps_lab::MethodRegistry& registry) {
   info.wall_samples = true;
   info.wall_particle_models = {WallParticlePressure::AdamiExtrapolated};  // adami_wall_particles
   info.moving_walls = true;  // wall velocity in the viscous term and the wall pressure (docs/walls.md, "Moving walls")
+  info.obstacle_loads = true;  // the reaction of its wall-particle pair terms (docs/walls.md, "Loads on obstacles")
   info.wall_hooks = isph::kWallHooks;
   // The step: the scene's fixed step by default (as mps); "cfl" adapts it to the flow. 0.25
   // keeps a margin below the largest stable fixed Courant number 0.4 measured with

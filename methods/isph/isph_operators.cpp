@@ -8,6 +8,7 @@
 #include <Eigen/LU>
 
 #include "core/search/for_each_neighbour.hpp"
+#include "core/walls/wall_reactions.hpp"
 
 namespace mps_lab::isph {
 
@@ -71,13 +72,8 @@ void add_viscous_acceleration(const ParticleSet& particles, const NeighbourList&
   for_each_fluid_particle(particles, [&](std::ptrdiff_t i) {
     Vec2 sum = Vec2::Zero();
     for_each_neighbour(neighbours, i, [&](std::uint32_t j) {
-      if (particles.type[j] == ParticleType::Ghost) return;
-      const double factor = laplacian_pair_factor(kernel, particles.position[i] - particles.position[j], eta2);
-      // A wall particle at rest, or moving with its obstacle (no slip: its prescribed velocity).
-      const Vec2 u_j =
-          particles.type[j] == ParticleType::Wall ? particles.prescribed_wall_velocity(j) : particles.velocity[j];
       // Morris et al. (1997) viscous term, mu = rho nu: m (mu_i + mu_j)/(rho_i rho_j) F_ij (u_i - u_j)
-      sum += mass * (density[i] + density[j]) / (density[i] * density[j]) * factor * (particles.velocity[i] - u_j);
+      if (particles.type[j] != ParticleType::Ghost) sum += viscous_pair(particles, kernel, mass, density, eta2, i, j);
     });
     for_each_neighbour(samples, i, [&](const WallSample& wall) {
       if (particles.type[wall.source] == ParticleType::Ghost) return;
@@ -143,33 +139,28 @@ PressureGradientForm pressure_gradient_form_from_name(const std::string& name) {
 void pressure_acceleration(const ParticleSet& particles, const NeighbourList& neighbours, const WallSampleList& samples,
                            const SamplePressure& sample_rule, const SphKernel& kernel, double mass,
                            const std::vector<double>& density, const std::vector<double>& free_surface,
-                           PressureGradientForm form, std::vector<Vec2>& acceleration) {
+                           PressureGradientForm form, std::vector<Vec2>& acceleration,
+                           std::vector<Eigen::Matrix2d>* renormalisation) {
   const auto n = static_cast<std::ptrdiff_t>(particles.size());
   acceleration.resize(particles.size());
+  if (renormalisation != nullptr) renormalisation->assign(particles.size(), Eigen::Matrix2d::Identity());
   const double rho_w = sample_rule.rest_density;
 #pragma omp parallel for schedule(static)
   for (std::ptrdiff_t i = 0; i < n; ++i) {
     acceleration[i] = Vec2::Zero();
     if (particles.type[i] != ParticleType::Fluid) continue;
-    const bool corrected = form == PressureGradientForm::Corrected ||
-                           (form == PressureGradientForm::SymmetricCorrectedSurface && free_surface[i] != 0.0);
-    const bool symmetric = !corrected && form != PressureGradientForm::Difference;
+    const bool corrected = corrected_gradient(form, free_surface[i]);
+    const bool symmetric = symmetric_gradient(form, free_surface[i]);
     const double p_i = particles.pressure[i];
     const double rho_i = density[i];
     Vec2 sum = Vec2::Zero();                           // grad p_i / rho_i, m/s^2
     Eigen::Matrix2d moment = Eigen::Matrix2d::Zero();  // sum_j V_j grad W_ij (x_j - x_i)^T
     for_each_neighbour(neighbours, i, [&](std::uint32_t j) {
       if (particles.type[j] == ParticleType::Ghost) return;
-      const Vec2 r_ij = particles.position[i] - particles.position[j];
-      const Vec2 gradient = kernel.gradient(r_ij);
-      const double p_j = particles.pressure[j];
-      if (symmetric) {
-        // Monaghan (1992), momentum-conserving: sum_j m (p_i/rho_i^2 + p_j/rho_j^2) grad W_ij
-        sum += mass * (p_i / (rho_i * rho_i) + p_j / (density[j] * density[j])) * gradient;
-      } else {
-        // difference form: (1/rho_i) sum_j (m/rho_j) (p_j - p_i) grad W_ij, zero for constant p
-        sum += mass / (rho_i * density[j]) * (p_j - p_i) * gradient;
-        moment -= mass / density[j] * gradient * r_ij.transpose();
+      sum += pressure_pair(particles, kernel, mass, density, symmetric, i, j);  // symmetric or difference form
+      if (!symmetric) {
+        const Vec2 r_ij = particles.position[i] - particles.position[j];
+        moment -= mass / density[j] * kernel.gradient(r_ij) * r_ij.transpose();
       }
     });
     // Wall samples: particles of mass m V_w, density rho0, pressure p_s + rho0 g . (x_w - x_s).
@@ -189,10 +180,38 @@ void pressure_acceleration(const ParticleSet& particles, const NeighbourList& ne
     });
     if (corrected && std::fabs(moment.determinant()) > kMinimumMomentDeterminant) {
       // Bonet & Lok (1999) renormalisation: grad p_i = L_i sum_j V_j (p_j - p_i) grad W_ij, L_i = moment^-1
-      sum = moment.inverse() * sum;
+      const Eigen::Matrix2d inverse = moment.inverse();
+      sum = inverse * sum;
+      if (renormalisation != nullptr) (*renormalisation)[i] = inverse;
     }
     acceleration[i] = -sum;
   }
+}
+
+void add_pressure_wall_reactions(const ParticleSet& particles, const NeighbourList& neighbours, const SphKernel& kernel,
+                                 double mass, const std::vector<double>& density,
+                                 const std::vector<double>& free_surface, PressureGradientForm form,
+                                 const std::vector<Eigen::Matrix2d>& renormalisation, std::vector<Vec2>& reaction) {
+  // The force on i from j: m a_ij = -m L_i pressure_pair(i, j) (pressure_acceleration).
+  add_wall_reactions(
+      particles, neighbours,
+      [&](std::size_t i, std::size_t j) -> Vec2 {
+        const bool symmetric = symmetric_gradient(form, free_surface[i]);
+        return -mass * (renormalisation[i] * pressure_pair(particles, kernel, mass, density, symmetric, i, j));
+      },
+      reaction);
+}
+
+void add_viscous_wall_reactions(const ParticleSet& particles, const NeighbourList& neighbours, const SphKernel& kernel,
+                                double mass, const std::vector<double>& density, double kinematic_viscosity,
+                                double eta2, std::vector<Vec2>& reaction) {
+  // The force on i from j: m nu viscous_pair(i, j) (add_viscous_acceleration).
+  add_wall_reactions(
+      particles, neighbours,
+      [&](std::size_t i, std::size_t j) -> Vec2 {
+        return (mass * kinematic_viscosity) * viscous_pair(particles, kernel, mass, density, eta2, i, j);
+      },
+      reaction);
 }
 
 }  // namespace mps_lab::isph

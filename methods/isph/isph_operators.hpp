@@ -85,6 +85,18 @@ inline void ppe_laplacian(const ParticleSet& particles, const NeighbourList& nei
   ppe_laplacian(particles, neighbours, no_wall_samples(), kernel, mass, density, 0.0, Vec2::Zero(), eta2, values, out);
 }
 
+// What neighbour j (fluid or wall particle) adds to the viscous sum of i (Morris, Fox & Zhu 1997):
+//   m (rho_i + rho_j) / (rho_i rho_j) F_ij (u_i - u_j), 1/s per m^2/s of nu; a wall particle moves
+// with its prescribed velocity (no slip). Shared by add_viscous_acceleration and the reaction on
+// wall particles (add_viscous_wall_reactions), so that both are the same.
+inline Vec2 viscous_pair(const ParticleSet& particles, const SphKernel& kernel, double mass,
+                         const std::vector<double>& density, double eta2, std::size_t i, std::size_t j) {
+  const double factor = laplacian_pair_factor(kernel, particles.position[i] - particles.position[j], eta2);
+  const Vec2 u_j =
+      particles.type[j] == ParticleType::Wall ? particles.prescribed_wall_velocity(j) : particles.velocity[j];
+  return mass * (density[i] + density[j]) / (density[i] * density[j]) * factor * (particles.velocity[i] - u_j);
+}
+
 // Adds nu <lap u>_i to the acceleration of every fluid particle (the laminar viscous term of
 // Morris, Fox & Zhu 1997, with mu = rho nu):
 //   sum_j m nu (rho_i + rho_j) / (rho_i rho_j) F_ij (u_i - u_j);
@@ -144,6 +156,27 @@ enum class PressureGradientForm {
 // "symmetric" | "difference" | "corrected" | "symmetric_corrected_surface"
 PressureGradientForm pressure_gradient_form_from_name(const std::string& name);
 
+// Whether the gradient of fluid particle i is renormalised (Corrected, or SymmetricCorrectedSurface on
+// a free-surface particle), and whether its pairs take the symmetric form.
+inline bool corrected_gradient(PressureGradientForm form, double free_surface_i) {
+  return form == PressureGradientForm::Corrected ||
+         (form == PressureGradientForm::SymmetricCorrectedSurface && free_surface_i != 0.0);
+}
+inline bool symmetric_gradient(PressureGradientForm form, double free_surface_i) {
+  return !corrected_gradient(form, free_surface_i) && form != PressureGradientForm::Difference;
+}
+// What neighbour j adds to grad p_i / rho_i before the renormalisation, m/s^2: Monaghan's symmetric
+// m (p_i/rho_i^2 + p_j/rho_j^2) grad W_ij, or the difference form m/(rho_i rho_j) (p_j - p_i) grad W_ij.
+// Shared by pressure_acceleration and the reaction on wall particles (add_pressure_wall_reactions).
+inline Vec2 pressure_pair(const ParticleSet& particles, const SphKernel& kernel, double mass,
+                          const std::vector<double>& density, bool symmetric, std::size_t i, std::size_t j) {
+  const Vec2 gradient = kernel.gradient(particles.position[i] - particles.position[j]);
+  const double p_i = particles.pressure[i], p_j = particles.pressure[j];
+  const double rho_i = density[i], rho_j = density[j];
+  if (symmetric) return mass * (p_i / (rho_i * rho_i) + p_j / (rho_j * rho_j)) * gradient;  // Monaghan (1992)
+  return mass / (rho_i * rho_j) * (p_j - p_i) * gradient;                                   // zero for constant p
+}
+
 // How a wall sample's pressure enters the gradient: p_w = p_s + rho0 g . (x_w - x_s), and
 // max(p_w, 0) when negative pressures are clamped (as the method clamps wall particles'
 // pressures after the solve: a wall above the water whose extrapolated pressure is negative
@@ -158,11 +191,13 @@ struct SamplePressure {
 // over every non-ghost neighbour (wall particles carry their extrapolated pressure) and the
 // wall samples (mass m V_w, density rho0, pressure by `sample_rule`; in the
 // renormalisation matrix too). `free_surface[i]` != 0 marks surface particles (read by
-// SymmetricCorrectedSurface only).
+// SymmetricCorrectedSurface only). `renormalisation`, when given, gets each fluid particle's L_i
+// (the identity where the gradient is not renormalised) for add_pressure_wall_reactions.
 void pressure_acceleration(const ParticleSet& particles, const NeighbourList& neighbours, const WallSampleList& samples,
                            const SamplePressure& sample_rule, const SphKernel& kernel, double mass,
                            const std::vector<double>& density, const std::vector<double>& free_surface,
-                           PressureGradientForm form, std::vector<Vec2>& acceleration);
+                           PressureGradientForm form, std::vector<Vec2>& acceleration,
+                           std::vector<Eigen::Matrix2d>* renormalisation = nullptr);
 inline void pressure_acceleration(const ParticleSet& particles, const NeighbourList& neighbours,
                                   const SphKernel& kernel, double mass, const std::vector<double>& density,
                                   const std::vector<double>& free_surface, PressureGradientForm form,
@@ -170,5 +205,17 @@ inline void pressure_acceleration(const ParticleSet& particles, const NeighbourL
   pressure_acceleration(particles, neighbours, no_wall_samples(), SamplePressure{}, kernel, mass, density, free_surface,
                         form, acceleration);
 }
+
+// The fluid's reaction on wall particles (docs/walls.md, "Loads on obstacles"): for every wall
+// particle j, minus the sum over its fluid neighbours i of m times the acceleration j's pair term
+// gives i - pressure: -L_i pressure_pair (L_i from pressure_acceleration); viscosity:
+// nu viscous_pair. Adds to `reaction`, N/m; with the inputs the fluid's operators had.
+void add_pressure_wall_reactions(const ParticleSet& particles, const NeighbourList& neighbours, const SphKernel& kernel,
+                                 double mass, const std::vector<double>& density,
+                                 const std::vector<double>& free_surface, PressureGradientForm form,
+                                 const std::vector<Eigen::Matrix2d>& renormalisation, std::vector<Vec2>& reaction);
+void add_viscous_wall_reactions(const ParticleSet& particles, const NeighbourList& neighbours, const SphKernel& kernel,
+                                double mass, const std::vector<double>& density, double kinematic_viscosity,
+                                double eta2, std::vector<Vec2>& reaction);
 
 }  // namespace mps_lab::isph

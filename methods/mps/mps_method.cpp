@@ -74,6 +74,9 @@ class MpsMethod final : public Method {
     amg_min_fluid_particles_ = static_cast<std::size_t>(p.integer("amg_min_fluid_particles"));
     settings_.clamp_negative = p.boolean("clamp_negative_pressure");
     read_schemes(p);
+    // Loads on obstacles (MethodInfo::obstacle_loads): the reaction on wall particles, when there are both.
+    computes_reactions_ = !scene_.walls.obstacles.empty() && walls_.wall_particles();
+    particle_mass_ = scene_.physics.density * l0 * l0;
   }
 
   void initialise(ParticleSet& particles) override {
@@ -163,6 +166,8 @@ class MpsMethod final : public Method {
   }
 
   // Cell-ordered particles (core/search/cell_order.hpp): what save_state keeps per particle.
+  const std::vector<Vec2>* wall_reactions() const override { return computes_reactions_ ? &reaction_ : nullptr; }
+
   void permute_state(const ParticleOrder& order) override {
     permute_neighbour_list(neighbours_, order);
     permute_wall_samples(samples_, order);
@@ -204,9 +209,14 @@ class MpsMethod final : public Method {
       for (std::ptrdiff_t i = 0; i < count; ++i) {
         acceleration_[i] = particles.type[i] == ParticleType::Fluid ? gravity : Vec2::Zero();  // 5.1-1
       }
+      if (computes_reactions_) reaction_.assign(particles.size(), Vec2::Zero());
       if (scene_.physics.kinematic_viscosity > 0.0) {  // 5.1-2 (costs nothing when nu = 0)
         add_viscous_acceleration(particles, neighbours_, samples_, laplacian_radius_,
                                  scene_.physics.kinematic_viscosity, acceleration_);
+        if (computes_reactions_) {  // its wall terms' reaction, before u changes
+          add_viscous_wall_reactions(particles, neighbours_, laplacian_radius_, scene_.physics.kinematic_viscosity,
+                                     particle_mass_, reaction_);
+        }
       }
     }
     {
@@ -276,6 +286,7 @@ class MpsMethod final : public Method {
         pressure_acceleration(particles, neighbours_, samples_, gradient_radius_, carries_pressure_,
                               scene_.physics.density, scene_.physics.gravity, min_includes_self_, acceleration_);
       }
+      if (computes_reactions_) pressure_reactions(particles);
     }
     {
       const auto timed = measure(timers_, integration_phase_);
@@ -292,6 +303,18 @@ class MpsMethod final : public Method {
       const auto timed = measure(timers_, integration_phase_);
       ghosts_ += mark_escaped_as_ghosts(particles, scene_);  // 5.2-11
     }
+  }
+
+  // The reaction of the pressure term's wall pairs (add_pressure_wall_reactions), with the P_min
+  // of the spec's gradient (CMPS has its Phat already).
+  void pressure_reactions(const ParticleSet& particles) {
+    const bool cmps = gradient_scheme_ == PressureGradientScheme::Cmps;
+    if (!cmps) {
+      neighbourhood_minimum(particles, neighbours_, samples_, gradient_radius_, carries_pressure_,
+                            scene_.physics.density, scene_.physics.gravity, min_includes_self_, minimum_pressure_);
+    }
+    add_pressure_wall_reactions(particles, neighbours_, gradient_radius_, carries_pressure_, minimum_pressure_, cmps,
+                                scene_.physics.density, particle_mass_, reaction_);
   }
 
   // The step's report: solver statistics, and the compressibility left for the solver.
@@ -356,6 +379,9 @@ class MpsMethod final : public Method {
   std::size_t amg_min_fluid_particles_ = 2000;
   std::vector<char> carries_pressure_;
   std::vector<Vec2> acceleration_;  // m/s^2
+  bool computes_reactions_ = false;
+  double particle_mass_ = 0.0;  // rho l0^2, kg/m
+  std::vector<Vec2> reaction_;  // the fluid's force on each wall particle in this step, N/m
   CellList cells_;
   NeighbourList neighbours_;
   WallSampleList samples_;  // of the boundary model, at the positions of the last search
@@ -435,6 +461,7 @@ void mps_lab_register_method_mps(mps_lab::MethodRegistry& registry) {
   info.wall_samples = true;
   info.wall_particle_models = {WallParticlePressure::SolvedInPpe};  // spec_wall_particles
   info.moving_walls = true;  // wall velocity in the viscous term and the wall pressure (docs/walls.md, "Moving walls")
+  info.obstacle_loads = true;  // the reaction of the wall-particle pair terms of spec §2 (docs/walls.md)
   info.wall_hooks = mps::kWallHooks;
   info.create = [](const MethodSetup& setup) { return std::make_unique<mps::MpsMethod>(setup); };
   registry.add(std::move(info));

@@ -3,9 +3,38 @@
 #include <algorithm>
 #include <cstddef>
 
+#include <cmath>
+#include <limits>
+
 #include "core/search/for_each_neighbour.hpp"
+#include "core/walls/wall_reactions.hpp"
 
 namespace mps_lab::mps {
+
+namespace {
+
+// P_min,i of spec §2: the minimum pressure over the neighbours that enter the gradient's sum (within
+// re, pressure-carrying, and the wall samples' p_w) and i itself when `min_includes_self`, as in
+// K&O 1996; +infinity when there is none. Shared by the gradient and by neighbourhood_minimum (the
+// wall side of the reaction, CMPS's Phat), so that both see the same P_min.
+double minimum_pressure_of(const ParticleSet& particles, const NeighbourList& neighbours, const WallSampleList& samples,
+                           const OperatorRadius& radius, const std::vector<char>& carries_pressure, double density,
+                           const Vec2& gravity, bool min_includes_self, std::size_t i) {
+  const Vec2 xi = particles.position[i];
+  double p_min = min_includes_self ? particles.pressure[i] : std::numeric_limits<double>::infinity();
+  for_each_neighbour(neighbours, i, [&](std::uint32_t j) {
+    if (!carries_pressure[j] || particles.type[j] == ParticleType::Ghost) return;
+    if ((particles.position[j] - xi).norm() >= radius.re) return;
+    p_min = std::min(p_min, particles.pressure[j]);
+  });
+  for_each_neighbour(samples, i, [&](const WallSample& wall) {
+    if ((wall.position - xi).norm() >= radius.re) return;
+    p_min = std::min(p_min, sample_pressure(wall, particles.pressure, particles.position, density, gravity));
+  });
+  return p_min;
+}
+
+}  // namespace
 
 OperatorRadius make_operator_radius(double spacing, double re, double r_min) {
   const MpsLatticeConstants lattice = mps_lattice_constants(spacing, re, r_min);
@@ -35,13 +64,11 @@ void number_density(const ParticleSet& particles, const NeighbourList& neighbour
 void add_viscous_acceleration(const ParticleSet& particles, const NeighbourList& neighbours,
                               const WallSampleList& samples, const OperatorRadius& radius, double kinematic_viscosity,
                               std::vector<Vec2>& acceleration) {
-  const double coefficient = kinematic_viscosity * 2.0 * kDimension / (radius.n0 * radius.lambda);  // 1/s
+  const double coefficient = laplacian_coefficient(radius, kinematic_viscosity);  // 1/s
   for_each_fluid_particle(particles, [&](std::ptrdiff_t i) {
     Vec2 sum = Vec2::Zero();
     for_each_neighbour(neighbours, i, [&](std::uint32_t j) {
-      if (particles.type[j] == ParticleType::Ghost) return;
-      const double w = mps_weight((particles.position[j] - particles.position[i]).norm(), radius.re, radius.r_min);
-      sum += (particles.velocity[j] - particles.velocity[i]) * w;
+      if (particles.type[j] != ParticleType::Ghost) sum += laplacian_pair(particles, i, j, radius);
     });
     for_each_neighbour(samples, i, [&](const WallSample& wall) {
       const double w = mps_weight((wall.position - particles.position[i]).norm(), radius.re, radius.r_min);
@@ -62,25 +89,12 @@ void pressure_acceleration(const ParticleSet& particles, const NeighbourList& ne
     acceleration[i] = Vec2::Zero();
     if (particles.type[i] != ParticleType::Fluid) continue;
     const Vec2 xi = particles.position[i];
-    // P_min over the neighbours that enter the sum (and i itself, as in K&O 1996).
-    double p_min = min_includes_self ? particles.pressure[i] : std::numeric_limits<double>::infinity();
-    for_each_neighbour(neighbours, i, [&](std::uint32_t j) {
-      if (!carries_pressure[j] || particles.type[j] == ParticleType::Ghost) return;
-      if ((particles.position[j] - xi).norm() >= radius.re) return;
-      p_min = std::min(p_min, particles.pressure[j]);
-    });
-    for_each_neighbour(samples, i, [&](const WallSample& wall) {
-      if ((wall.position - xi).norm() >= radius.re) return;
-      p_min = std::min(p_min, sample_pressure(wall, particles.pressure, particles.position, density, gravity));
-    });
+    const double p_min = minimum_pressure_of(particles, neighbours, samples, radius, carries_pressure, density, gravity,
+                                             min_includes_self, i);
     Vec2 gradient = Vec2::Zero();  // Pa/m
     for_each_neighbour(neighbours, i, [&](std::uint32_t j) {
       if (!carries_pressure[j] || particles.type[j] == ParticleType::Ghost) return;
-      const Vec2 r_ij = particles.position[j] - xi;
-      const double r = r_ij.norm();
-      const double w = mps_weight(r, radius.re, radius.r_min);
-      if (w == 0.0) return;
-      gradient += (particles.pressure[j] - p_min) / std::max(r * r, r_min2) * w * r_ij;
+      gradient += gradient_pair(particles, i, j, p_min, radius);
     });
     for_each_neighbour(samples, i, [&](const WallSample& wall) {
       const Vec2 r_iw = wall.position - xi;
@@ -92,6 +106,49 @@ void pressure_acceleration(const ParticleSet& particles, const NeighbourList& ne
     });
     acceleration[i] = -(coefficient / density) * gradient;
   }
+}
+
+void neighbourhood_minimum(const ParticleSet& particles, const NeighbourList& neighbours, const WallSampleList& samples,
+                           const OperatorRadius& radius, const std::vector<char>& carries_pressure, double density,
+                           const Vec2& gravity, bool min_includes_self, std::vector<double>& out) {
+  const auto n = static_cast<std::ptrdiff_t>(particles.size());
+  out.assign(particles.size(), 0.0);
+#pragma omp parallel for schedule(static)
+  for (std::ptrdiff_t i = 0; i < n; ++i) {
+    if (!carries_pressure[i] || particles.type[i] == ParticleType::Ghost) continue;
+    const double p_min = minimum_pressure_of(particles, neighbours, samples, radius, carries_pressure, density, gravity,
+                                             min_includes_self, i);
+    out[i] = std::isfinite(p_min) ? p_min : particles.pressure[i];  // no neighbour: no pair term either
+  }
+}
+
+void add_viscous_wall_reactions(const ParticleSet& particles, const NeighbourList& neighbours,
+                                const OperatorRadius& radius, double kinematic_viscosity, double particle_mass,
+                                std::vector<Vec2>& reaction) {
+  // The force on i from j: m nu (2d / (n0 lambda)) (u_j - u_i) w_ij (add_viscous_acceleration).
+  const double coefficient = laplacian_coefficient(radius, kinematic_viscosity);  // 1/s
+  add_wall_reactions(
+      particles, neighbours,
+      [&](std::size_t i, std::size_t j) -> Vec2 {
+        return (particle_mass * coefficient) * laplacian_pair(particles, i, j, radius);
+      },
+      reaction);
+}
+
+void add_pressure_wall_reactions(const ParticleSet& particles, const NeighbourList& neighbours,
+                                 const OperatorRadius& radius, const std::vector<char>& carries_pressure,
+                                 const std::vector<double>& minimum_pressure, bool cmps, double density,
+                                 double particle_mass, std::vector<Vec2>& reaction) {
+  // The force on i from j: -m (d / (n0 rho)) times the pair term of <grad P>_i (pressure_acceleration).
+  const double coefficient = -particle_mass * kDimension / (radius.n0 * density);  // kg m/(m Pa), per metre
+  add_wall_reactions(
+      particles, neighbours,
+      [&](std::size_t i, std::size_t j) -> Vec2 {
+        if (!carries_pressure[j]) return Vec2::Zero();
+        return coefficient * (cmps ? cmps_gradient_pair(particles, i, j, minimum_pressure, radius)
+                                   : gradient_pair(particles, i, j, minimum_pressure[i], radius));
+      },
+      reaction);
 }
 
 }  // namespace mps_lab::mps

@@ -3,6 +3,8 @@
 // over a ParticleSet and a neighbour list. d = 2 throughout. Each operator has its own
 // radius of influence and lattice constants (n0, lambda computed with that radius), so the
 // spec's single re = 2.1 l0 and the larger Laplacian radius of K&O 1996 are both expressible.
+#include <algorithm>
+#include <cstddef>
 #include <vector>
 
 #include "core/base/particles.hpp"
@@ -22,6 +24,38 @@ struct OperatorRadius {
   double lambda = 0.0;  // m^2, lattice lambda with this re
 };
 OperatorRadius make_operator_radius(double spacing, double re, double r_min);
+
+// The pair terms of spec §2, shared by the operators (sum over j of i) and by the fluid's reaction
+// on wall particles (sum over i of j, docs/walls.md "Loads on obstacles"), so both are the same.
+// Laplacian: nu times its coefficient 2d / (n0 lambda), 1/s; what neighbour j adds to
+// sum_j (u_j - u_i) w_ij, m/s.
+inline double laplacian_coefficient(const OperatorRadius& radius, double kinematic_viscosity) {
+  return kinematic_viscosity * 2.0 * kDimension / (radius.n0 * radius.lambda);
+}
+inline Vec2 laplacian_pair(const ParticleSet& particles, std::size_t i, std::size_t j, const OperatorRadius& radius) {
+  const double w = mps_weight((particles.position[j] - particles.position[i]).norm(), radius.re, radius.r_min);
+  return (particles.velocity[j] - particles.velocity[i]) * w;
+}
+// Gradient: what neighbour j adds to sum_j (P_j - P_min,i) / |r_ij|^2 r_ij w_ij, Pa/m.
+inline Vec2 gradient_pair(const ParticleSet& particles, std::size_t i, std::size_t j, double p_min,
+                          const OperatorRadius& radius) {
+  const Vec2 r_ij = particles.position[j] - particles.position[i];
+  const double r = r_ij.norm();
+  const double w = mps_weight(r, radius.re, radius.r_min);
+  if (w == 0.0) return Vec2::Zero();
+  return (particles.pressure[j] - p_min) / std::max(r * r, radius.r_min * radius.r_min) * w * r_ij;
+}
+// CMPS gradient (Khayyer & Gotoh 2008): what j adds to sum_j [(P_i + P_j) - (Phat_i + Phat_j)] /
+// |r_ij|^2 r_ij w_ij, Pa/m (Phat: minimum_pressure, neighbourhood_minimum).
+inline Vec2 cmps_gradient_pair(const ParticleSet& particles, std::size_t i, std::size_t j,
+                               const std::vector<double>& minimum_pressure, const OperatorRadius& radius) {
+  const Vec2 r_ij = particles.position[j] - particles.position[i];
+  const double r = r_ij.norm();
+  const double w = mps_weight(r, radius.re, radius.r_min);
+  if (w == 0.0) return Vec2::Zero();
+  const double pair = (particles.pressure[i] + particles.pressure[j]) - (minimum_pressure[i] + minimum_pressure[j]);
+  return pair / std::max(r * r, radius.r_min * radius.r_min) * w * r_ij;
+}
 
 // Every operator also sums over the wall samples of i when the boundary model has them
 // (core/walls/wall_samples.hpp; an empty list adds nothing): a sample is a neighbour of volume V_w
@@ -47,5 +81,27 @@ void add_viscous_acceleration(const ParticleSet& particles, const NeighbourList&
 void pressure_acceleration(const ParticleSet& particles, const NeighbourList& neighbours, const WallSampleList& samples,
                            const OperatorRadius& radius, const std::vector<char>& carries_pressure, double density,
                            const Vec2& gravity, bool min_includes_self, std::vector<Vec2>& acceleration);
+
+// P_min,i (the spec's, §2) or Phat_i (CMPS): the minimum pressure over i's pressure-carrying
+// neighbours and wall samples within re, and over i itself when `min_includes_self`, for every
+// pressure-carrying particle (i's own pressure where it has none), Pa.
+void neighbourhood_minimum(const ParticleSet& particles, const NeighbourList& neighbours, const WallSampleList& samples,
+                           const OperatorRadius& radius, const std::vector<char>& carries_pressure, double density,
+                           const Vec2& gravity, bool min_includes_self, std::vector<double>& out);
+
+// The fluid's reaction on wall particles (docs/walls.md, "Loads on obstacles"): for every wall
+// particle j, minus the sum over its fluid neighbours i of m nu <lap u> pair term (spec §2,
+// laplacian_pair), with m = rho l0^2 the mass of a particle per metre of depth (kg/m); adds to
+// `reaction` (N/m). With the same neighbours and velocities as add_viscous_acceleration.
+void add_viscous_wall_reactions(const ParticleSet& particles, const NeighbourList& neighbours,
+                                const OperatorRadius& radius, double kinematic_viscosity, double particle_mass,
+                                std::vector<Vec2>& reaction);
+// The same for the pressure term, -(1/rho) <grad P>_i (spec §2, gradient_pair; cmps_gradient_pair
+// when `cmps`), over the pressure-carrying wall particles; `minimum_pressure` from
+// neighbourhood_minimum with the operator's settings.
+void add_pressure_wall_reactions(const ParticleSet& particles, const NeighbourList& neighbours,
+                                 const OperatorRadius& radius, const std::vector<char>& carries_pressure,
+                                 const std::vector<double>& minimum_pressure, bool cmps, double density,
+                                 double particle_mass, std::vector<Vec2>& reaction);
 
 }  // namespace mps_lab::mps

@@ -136,35 +136,6 @@ void source_terms(SourceTermScheme scheme, const ParticleSet& particles, const N
   }
 }
 
-namespace {
-
-// Phat_i: the minimum pressure over i's pressure-carrying neighbours and wall samples within re,
-// and over i itself when asked (the spec's P_min), for every pressure-carrying particle.
-void neighbourhood_minimum(const ParticleSet& particles, const NeighbourList& neighbours, const WallSampleList& samples,
-                           const OperatorRadius& radius, const std::vector<char>& carries_pressure, double density,
-                           const Vec2& gravity, bool min_includes_self, std::vector<double>& out) {
-  const auto n = static_cast<std::ptrdiff_t>(particles.size());
-  out.assign(particles.size(), 0.0);
-#pragma omp parallel for schedule(static)
-  for (std::ptrdiff_t i = 0; i < n; ++i) {
-    if (!carries_pressure[i] || particles.type[i] == ParticleType::Ghost) continue;
-    const Vec2 xi = particles.position[i];
-    double p_min = min_includes_self ? particles.pressure[i] : std::numeric_limits<double>::infinity();
-    for_each_neighbour(neighbours, i, [&](std::uint32_t j) {
-      if (!carries_pressure[j] || particles.type[j] == ParticleType::Ghost) return;
-      if ((particles.position[j] - xi).norm() >= radius.re) return;
-      p_min = std::min(p_min, particles.pressure[j]);
-    });
-    for_each_neighbour(samples, i, [&](const WallSample& wall) {
-      if ((wall.position - xi).norm() >= radius.re) return;
-      p_min = std::min(p_min, sample_pressure(wall, particles.pressure, particles.position, density, gravity));
-    });
-    out[i] = std::isfinite(p_min) ? p_min : particles.pressure[i];  // no neighbour: no pair term either
-  }
-}
-
-}  // namespace
-
 void cmps_pressure_acceleration(const ParticleSet& particles, const NeighbourList& neighbours,
                                 const WallSampleList& samples, const OperatorRadius& radius,
                                 const std::vector<char>& carries_pressure, double density, const Vec2& gravity,
@@ -185,13 +156,7 @@ void cmps_pressure_acceleration(const ParticleSet& particles, const NeighbourLis
     Vec2 gradient = Vec2::Zero();  // Pa/m
     for_each_neighbour(neighbours, i, [&](std::uint32_t j) {
       if (!carries_pressure[j] || particles.type[j] == ParticleType::Ghost) return;
-      const Vec2 r_ij = particles.position[j] - xi;
-      const double r = r_ij.norm();
-      const double w = mps_weight(r, radius.re, radius.r_min);
-      if (w == 0.0) return;
-      // Khayyer & Gotoh (2008): [(P_i + P_j) - (Phat_i + Phat_j)] / |r_ij|^2 r_ij w_ij
-      const double pair = (p_i + particles.pressure[j]) - (p_hat_i + minimum_pressure[j]);
-      gradient += pair / std::max(r * r, r_min2) * w * r_ij;
+      gradient += cmps_gradient_pair(particles, i, j, minimum_pressure, radius);  // Khayyer & Gotoh (2008)
     });
     for_each_neighbour(samples, i, [&](const WallSample& wall) {
       const Vec2 r_iw = wall.position - xi;

@@ -86,6 +86,8 @@ class WcsphMethod final : public Method {
                        "it from, expected a speed of sound > 0 m/s");
     }
     mass_ = eos_.rest_density * l0 * l0;
+    // Loads on obstacles (MethodInfo::obstacle_loads): the reaction on wall particles, when there are both.
+    computes_reactions_ = !scene_.walls.obstacles.empty() && walls_.wall_particles();
     diffusion_ = density_diffusion_from_name(p.string("density_diffusion"));
     delta_ = p.number("delta");
     viscosity_.model = p.string("viscosity") == "laminar" ? Viscosity::Laminar : Viscosity::Artificial;
@@ -198,6 +200,8 @@ class WcsphMethod final : public Method {
   }
 
   // Cell-ordered particles (core/search/cell_order.hpp): what save_state keeps per particle.
+  const std::vector<Vec2>* wall_reactions() const override { return computes_reactions_ ? &reaction_ : nullptr; }
+
   void permute_state(const ParticleOrder& order) override {
     permute_values(acceleration_, order);
     permute_values(density_rate_, order);
@@ -308,6 +312,10 @@ class WcsphMethod final : public Method {
 #pragma omp parallel for schedule(static)
     for (std::ptrdiff_t i = 0; i < count; ++i) density_rate_[i] += diffusion_rate_[i];
     momentum(state, viscosity_, acceleration_);
+    if (computes_reactions_) {  // the reaction of its wall pairs at the same state
+      reaction_.assign(particles.size(), Vec2::Zero());
+      add_momentum_wall_reactions(state, viscosity_, reaction_);
+    }
   }
 
   // The second kick, the end-of-step pressures (fluid by Tait, walls by Adami), the hook after
@@ -384,8 +392,10 @@ class WcsphMethod final : public Method {
   bool clamp_wall_pressure_ = true;
   CellList cells_;
   NeighbourList neighbours_;
-  WallSampleList samples_;                 // of the boundary model, at the positions of the last search
-  std::vector<Vec2> acceleration_;         // a of the last evaluation, m/s^2
+  WallSampleList samples_;          // of the boundary model, at the positions of the last search
+  std::vector<Vec2> acceleration_;  // a of the last evaluation, m/s^2
+  bool computes_reactions_ = false;
+  std::vector<Vec2> reaction_;             // the fluid's force on each wall particle at the last evaluation, N/m
   std::vector<double> density_rate_;       // D rho / Dt of the last evaluation, delta-term included, kg/(m^3 s)
   std::vector<double> diffusion_rate_;     // the delta-term alone, kg/(m^3 s)
   std::vector<Vec2> density_gradient_;     // <grad rho>^L, kg/m^4
@@ -448,6 +458,7 @@ void mps_lab_register_method_wcsph(mps_lab::MethodRegistry& registry) {
   // sum over fluid alone with every boundary model): dummy_layers, mirror_particles, distance_function.
   info.wall_samples = true;
   info.wall_particle_models = {WallParticlePressure::AdamiExtrapolated};  // adami_wall_particles
+  info.obstacle_loads = true;  // the reaction of its momentum pairs with wall particles (docs/walls.md)
   info.wall_hooks = wcsph::kWallHooks;
   const auto time_step_specs = time_step_parameters(
       {"cfl", 0.25, 1.0e-7, 1.0e-3, "0.25: a factor 3 below the largest stable 0.8 (docs/methods/wcsph.md)",

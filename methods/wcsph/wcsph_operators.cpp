@@ -8,6 +8,7 @@
 #include <Eigen/LU>
 
 #include "core/search/for_each_neighbour.hpp"
+#include "core/walls/wall_reactions.hpp"
 
 namespace mps_lab::wcsph {
 
@@ -135,41 +136,11 @@ void continuity(const FluidState& state, std::vector<double>& out) {
   });
 }
 
-namespace {
-// One pair's contribution to a_i (without gravity): the pressure gradient and the viscous term,
-// for a neighbour at r_ij = x_i - x_j with pressure p_j, density rho_j, velocity u_j, mass m_j.
-struct PairTerm {
-  const FluidState& state;
-  const ViscositySettings& viscosity;
-  double p_i, rho_i;
-  Vec2 u_i;
-
-  Vec2 operator()(const Vec2& r_ij, double p_j, double rho_j, const Vec2& u_j, double m_j) const {
-    const Vec2 grad = state.kernel.gradient(r_ij);
-    const double volume = m_j / rho_j;
-    // Marrone et al. (2011): -(1/rho_i) sum_j (p_i + p_j) grad W_ij V_j
-    Vec2 a = -(p_i + p_j) * volume / rho_i * grad;
-    const double r2 = r_ij.squaredNorm() + viscosity.eta2;
-    if (viscosity.model == Viscosity::Artificial) {
-      // Monaghan (1992), Antuono et al. (2010): alpha h c0 (rho0/rho_i) pi_ij grad W_ij V_j,
-      // pi_ij = (u_j - u_i) . (x_j - x_i) / |x_j - x_i|^2
-      const double pi_ij = (u_j - u_i).dot(-r_ij) / r2;
-      a += viscosity.alpha_h_c0 * state.eos.rest_density / rho_i * pi_ij * volume * grad;
-    } else {
-      // Morris et al. (1997): nu m_j (rho_i + rho_j) / (rho_i rho_j) F_ij (u_i - u_j)
-      const double factor = r_ij.dot(grad) / r2;
-      a += viscosity.kinematic_viscosity * m_j * (rho_i + rho_j) / (rho_i * rho_j) * factor * (u_i - u_j);
-    }
-    return a;
-  }
-};
-}  // namespace
-
 void momentum(const FluidState& state, const ViscositySettings& viscosity, std::vector<Vec2>& acceleration) {
   const ParticleSet& particles = state.particles;
   acceleration.assign(particles.size(), Vec2::Zero());
   for_each_fluid_particle(particles, [&](std::ptrdiff_t i) {
-    const PairTerm pair{state, viscosity, state.pressure[i], state.density[i], state.velocity[i]};
+    const MomentumPair pair{state, viscosity, state.pressure[i], state.density[i], state.velocity[i]};
     Vec2 sum = state.gravity;
     for_each_neighbour(state.neighbours, i, [&](std::uint32_t j) {
       if (particles.type[j] == ParticleType::Ghost) return;
@@ -184,6 +155,20 @@ void momentum(const FluidState& state, const ViscositySettings& viscosity, std::
     });
     acceleration[i] = sum;
   });
+}
+
+void add_momentum_wall_reactions(const FluidState& state, const ViscositySettings& viscosity,
+                                 std::vector<Vec2>& reaction) {
+  const ParticleSet& particles = state.particles;
+  // The force on fluid i from wall particle j: m times j's MomentumPair term in momentum().
+  mps_lab::add_wall_reactions(
+      particles, state.neighbours,
+      [&](std::size_t i, std::size_t j) -> Vec2 {
+        const MomentumPair pair{state, viscosity, state.pressure[i], state.density[i], state.velocity[i]};
+        return state.mass * pair(particles.position[i] - particles.position[j], state.pressure[j], state.density[j],
+                                 state.velocity[j], state.mass);
+      },
+      reaction);
 }
 
 double acoustic_time_step(double courant, double spacing, double sound_speed, double max_speed) {

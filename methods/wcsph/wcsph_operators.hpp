@@ -111,6 +111,35 @@ struct ViscositySettings {
   double eta2 = 0.0;                 // eta^2 = (0.1 h)^2 of both denominators, m^2
 };
 
+// One pair's contribution to a_i (without gravity): the pressure gradient and the viscous term of
+// momentum() below, for a neighbour at r_ij = x_i - x_j with pressure p_j, density rho_j, velocity
+// u_j, mass m_j. Shared by momentum() and the reaction on wall particles (add_momentum_wall_reactions).
+struct MomentumPair {
+  const FluidState& state;
+  const ViscositySettings& viscosity;
+  double p_i, rho_i;
+  Vec2 u_i;
+
+  Vec2 operator()(const Vec2& r_ij, double p_j, double rho_j, const Vec2& u_j, double m_j) const {
+    const Vec2 grad = state.kernel.gradient(r_ij);
+    const double volume = m_j / rho_j;
+    // Marrone et al. (2011): -(1/rho_i) sum_j (p_i + p_j) grad W_ij V_j
+    Vec2 a = -(p_i + p_j) * volume / rho_i * grad;
+    const double r2 = r_ij.squaredNorm() + viscosity.eta2;
+    if (viscosity.model == Viscosity::Artificial) {
+      // Monaghan (1992), Antuono et al. (2010): alpha h c0 (rho0/rho_i) pi_ij grad W_ij V_j,
+      // pi_ij = (u_j - u_i) . (x_j - x_i) / |x_j - x_i|^2
+      const double pi_ij = (u_j - u_i).dot(-r_ij) / r2;
+      a += viscosity.alpha_h_c0 * state.eos.rest_density / rho_i * pi_ij * volume * grad;
+    } else {
+      // Morris et al. (1997): nu m_j (rho_i + rho_j) / (rho_i rho_j) F_ij (u_i - u_j)
+      const double factor = r_ij.dot(grad) / r2;
+      a += viscosity.kinematic_viscosity * m_j * (rho_i + rho_j) / (rho_i * rho_j) * factor * (u_i - u_j);
+    }
+    return a;
+  }
+};
+
 // The momentum equation, m/s^2, for fluid particles (0 elsewhere):
 //   a_i = g - (1/rho_i) sum_j (p_i + p_j) grad W_ij V_j              (Marrone et al. 2011)
 //       + artificial:  alpha h c0 (rho0 / rho_i) sum_j pi_ij grad W_ij V_j,
@@ -120,6 +149,12 @@ struct ViscositySettings {
 //                      F_ij = r_ij . grad W_ij / (|r_ij|^2 + eta^2)   (Morris et al. 1997)
 // over every non-ghost neighbour and wall sample.
 void momentum(const FluidState& state, const ViscositySettings& viscosity, std::vector<Vec2>& acceleration);
+
+// The fluid's reaction on wall particles at the state of momentum() (docs/walls.md, "Loads on
+// obstacles"): for every wall particle j, minus the sum over its fluid neighbours i of m times
+// j's MomentumPair term for i (pressure and viscosity); adds to `reaction`, N/m.
+void add_momentum_wall_reactions(const FluidState& state, const ViscositySettings& viscosity,
+                                 std::vector<Vec2>& reaction);
 
 // The time-step limits, s (docs/methods/wcsph.md, "Time step"):
 //   acoustic (CFL):  C l0 / (c0 + v_max)                              (Monaghan 1992)

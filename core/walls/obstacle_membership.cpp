@@ -1,0 +1,80 @@
+// Obstacle membership of wall particles and the loads on obstacles (core/walls/obstacle_membership.hpp).
+#include "core/walls/obstacle_membership.hpp"
+
+#include "core/walls/wall_polygon.hpp"
+
+namespace mps_lab {
+
+namespace {
+
+// Whether x is a point of the tank's walls: on or beyond a walled side of the domain.
+bool on_tank_wall(const Vec2& x, const Scene& scene, double eps) {
+  const TankWalls& w = scene.walls;
+  const Box& d = scene.domain;
+  return (w.left && x.x() <= d.min.x() + eps) || (w.right && x.x() >= d.max.x() - eps) ||
+         (w.bottom && x.y() <= d.min.y() + eps) || (w.top && x.y() >= d.max.y() - eps);
+}
+
+bool holds(const Scene& scene, std::size_t k, const Vec2& x, double eps) {
+  if (scene.walls.is_polygon(k)) return inside_polygon(x, scene.walls.polygons[k]);
+  const Box& box = scene.walls.obstacles[k];
+  return x.x() >= box.min.x() - eps && x.x() <= box.max.x() + eps && x.y() >= box.min.y() - eps &&
+         x.y() <= box.max.y() + eps;
+}
+
+}  // namespace
+
+std::vector<std::int32_t> obstacle_of_wall_particles(const Scene& scene, const ParticleSet& initial) {
+  std::vector<std::int32_t> owner(initial.size(), kNoObstacle);
+  const double eps = 1e-6 * scene.particle_spacing;
+  for (std::size_t i = 0; i < initial.size(); ++i) {
+    if (initial.type[i] != ParticleType::Wall || on_tank_wall(initial.position[i], scene, eps)) continue;
+    for (std::size_t k = 0; k < scene.walls.obstacles.size(); ++k) {
+      if (!holds(scene, k, initial.position[i], eps)) continue;
+      owner[i] = static_cast<std::int32_t>(k);
+      break;
+    }
+  }
+  return owner;
+}
+
+Vec2 obstacle_rest_centroid(const Scene& scene, std::size_t k) {
+  if (!scene.walls.is_polygon(k)) {
+    const Box& box = scene.walls.obstacles[k];
+    return 0.5 * (box.min + box.max);
+  }
+  const Polygon& polygon = scene.walls.polygons[k];
+  // Centroid of a lamina: sum over edges of (x_a + x_b) (x_a x x_b) / (6 A).
+  double twice_area = 0.0;
+  Vec2 sum = Vec2::Zero();
+  for (std::size_t a = 0; a < polygon.size(); ++a) {
+    const Vec2& p = polygon[a];
+    const Vec2& q = polygon[(a + 1) % polygon.size()];
+    const double cross = p.x() * q.y() - q.x() * p.y();
+    twice_area += cross;
+    sum += (p + q) * cross;
+  }
+  return sum / (3.0 * twice_area);
+}
+
+void sum_obstacle_loads(const Scene& scene, const ParticleSet& particles,
+                        const std::vector<std::int32_t>& obstacle_of_id, const std::vector<Vec2>& reaction, double time,
+                        ObstacleLoads& loads) {
+  const std::size_t obstacles = scene.walls.obstacles.size();
+  loads.reset(obstacles);
+  for (std::size_t k = 0; k < obstacles; ++k) {
+    const bool moves = k < scene.walls.motions.size() && scene.walls.motions[k].moves();
+    loads.reference[k] =
+        obstacle_rest_centroid(scene, k) + (moves ? scene.walls.motions[k].displacement(time) : Vec2::Zero());
+  }
+  for (std::size_t j = 0; j < particles.size(); ++j) {
+    const std::int32_t k = obstacle_of_id[particles.id[j]];
+    if (k == kNoObstacle) continue;
+    const Vec2& f = reaction[j];
+    const Vec2 arm = particles.position[j] - loads.reference[k];
+    loads.force[k] += f;
+    loads.torque[k] += arm.x() * f.y() - arm.y() * f.x();
+  }
+}
+
+}  // namespace mps_lab

@@ -1,0 +1,39 @@
+#pragma once
+// Which solid obstacle (walls.obstacles[k]) each wall particle belongs to, and the sum of the
+// fluid's reaction on wall particles into the load on each obstacle (core/walls/obstacle_loads.hpp).
+//
+// Membership is read once from the initial particles, where a particle's index is its id
+// (ParticleSet::id): a wall particle that is not a tank wall (on or beyond a walled side of the
+// domain) belongs to the first obstacle that holds it - a box obstacle: on or inside the box; a
+// polygon obstacle: inside its surface polygon (its wall particles lie at depths >= l0/2). It is
+// kept by id, so it follows every reordering of the particles (cell order, checkpoints) with no
+// bookkeeping. MovingWalls (core/walls/moving_walls.cpp) still has its own copy of the box rule;
+// it can take obstacle_of_wall_particles instead (same answer for boxes).
+#include <cstdint>
+#include <vector>
+
+#include "core/base/particles.hpp"
+#include "core/io/scene.hpp"
+#include "core/walls/obstacle_loads.hpp"
+
+namespace mps_lab {
+
+constexpr std::int32_t kNoObstacle = -1;
+
+// Per particle of `initial` (index = id): the obstacle k it belongs to, or kNoObstacle (fluid,
+// tank walls, ghosts).
+std::vector<std::int32_t> obstacle_of_wall_particles(const Scene& scene, const ParticleSet& initial);
+
+// The area centroid of obstacle k where the scene puts it, m: the centre of a box, the centroid
+// of a polygon's surface (the lamina formula over the shoelace triangles).
+Vec2 obstacle_rest_centroid(const Scene& scene, std::size_t k);
+
+// The loads at time t (s): force[k] = sum of reaction[j] over the wall particles j of obstacle k
+// (reaction: the force the fluid puts on each particle, N/m, in the order of `particles`);
+// torque[k] = sum (x_j - c_k) x reaction[j] about c_k = the rest centroid displaced by the
+// obstacle's motion law at t (N m/m = N); reference[k] = c_k.
+void sum_obstacle_loads(const Scene& scene, const ParticleSet& particles,
+                        const std::vector<std::int32_t>& obstacle_of_id, const std::vector<Vec2>& reaction, double time,
+                        ObstacleLoads& loads);
+
+}  // namespace mps_lab
