@@ -447,3 +447,38 @@ TEST_CASE("contact: a disc dropped on a box body on the bed - the stack comes to
   CHECK(box.position.y() + 0.06 + 0.1 - disc.position.y() == Approx(m_d * g / k).epsilon(0.01));
   CHECK(disc.position.x() == Approx(0.9).epsilon(1e-9));
 }
+
+TEST_CASE("two-way coupling: a half-density box floats at its draft in dfsph and a denser one sinks",
+          "[bodies][coupling]") {
+  // scenes/floating_box.json starts the box at its equilibrium draft rho_b / rho_w h = 0.0625 m,
+  // centre at the surface y = 0.3 m. Afloat, the mean centre over 0.5-1.5 s stays within 0.02 m
+  // of 0.3 (0.8 l0: a free surface of particles is resolved to about l0/2; measured 0.288). With
+  // no fluid load the box would fall to the bed. A box of 4x the density (net weight 3/4 of its
+  // weight) sinks by more than its own height (0.125 m) in 1.5 s: its centre ends below 0.15 m
+  // (measured 0.098 m: it is still settling onto the bed through the water under it).
+  const MethodInfo* dfsph = registries().methods.find("dfsph");
+  if (dfsph == nullptr) return;
+  auto mean_height = [&](double density, double* last) {
+    const Scene scene = load("floating_box.json", {"walls.obstacles.0.body.density=" + std::to_string(density)});
+    Simulation simulation(scene, *dfsph);
+    REQUIRE(simulation.reports_obstacle_loads());
+    double sum = 0.0;
+    long count = 0;
+    while (simulation.time() < 1.5 - 1e-9) {
+      simulation.advance();
+      if (simulation.time() >= 0.5) {
+        sum += simulation.bodies().state(0).position.y();
+        ++count;
+      }
+    }
+    *last = simulation.bodies().state(0).position.y();
+    return sum / static_cast<double>(count);
+  };
+  double last = 0.0;
+  const double afloat = mean_height(500.0, &last);
+  INFO("mean centre height afloat " << afloat << " m");
+  CHECK(std::fabs(afloat - 0.3) < 0.02);
+  mean_height(2000.0, &last);
+  INFO("final centre height of the dense box " << last << " m");
+  CHECK(last < 0.15);
+}
