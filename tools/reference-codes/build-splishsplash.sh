@@ -7,7 +7,9 @@
 # SOURCE_REPO: a clone or bare mirror of github.com/InteractiveComputerGraphics/SPlisHSPlasH
 #              (default /work/.mirror/InteractiveComputerGraphics+SPlisHSPlasH/repo)
 # WORK_DIR:    where the sources are unpacked and built (default build/reference-codes)
-# Environment: SPLISHSPLASH_COMMIT (default c5a063d), and the repositories of the four projects its CMake
+# Environment: SPLISHSPLASH_COMMIT (default 80b7284, 2025-08-12: the newest commit whose four pinned projects are all
+#              in the mirrors; the newest, c5a063d, pins a CompactNSearch commit they lack and its `reset()` call
+#              does not compile against CompactNSearch's HEAD 99fa1fe), and the repositories of the four projects its CMake
 #              fetches with ExternalProject: DISCREGRID_REPO, GENERICPARAMETERS_REPO, PBD_REPO,
 #              COMPACTNSEARCH_REPO (default: the mirrors beside SOURCE_REPO); COMPACTNSEARCH_COMMIT, used
 #              when the pinned commit is not in COMPACTNSEARCH_REPO (default: its HEAD); REFCODES_JOBS (2).
@@ -20,7 +22,7 @@ root=$(cd "$here/../.." && pwd)
 
 source_repo=${1:-/work/.mirror/InteractiveComputerGraphics+SPlisHSPlasH/repo}
 work=${2:-$root/build/reference-codes}
-commit=${SPLISHSPLASH_COMMIT:-c5a063d}
+commit=${SPLISHSPLASH_COMMIT:-80b7284}
 mirrors=$(dirname "$(dirname "$source_repo")")
 discregrid_repo=${DISCREGRID_REPO:-$mirrors/InteractiveComputerGraphics+Discregrid/repo}
 genericparameters_repo=${GENERICPARAMETERS_REPO:-$mirrors/InteractiveComputerGraphics+GenericParameters/repo}
@@ -57,7 +59,7 @@ use_local_project() {
   if ! git -C "$repo" cat-file -e "$pin^{commit}" 2>/dev/null; then
     [ -n "$fallback" ] || refcodes_die "$name: pinned commit $pin is not in '$repo'"
     use=$(git -C "$repo" rev-parse "$fallback^{commit}")
-    echo "reference-codes: $name: pinned commit $pin is not in '$repo'; using $use instead" >&2
+    echo "reference-codes: $name: pinned commit $pin is not in '$repo'; using $use instead (may not compile)" >&2
   fi
   refcodes_export_tree "$repo" "$use" "$base/extern-src/$name"
   local file

@@ -107,6 +107,10 @@ def splishsplash_scene(args):
     n_y = int(round(COLUMN_HEIGHT / l0)) - 1
     box_height = 2.0 * TANK_HEIGHT
     cells = int(math.ceil(TANK_WIDTH / (8.0 * l0)))  # volume map: one cell per 8 l0
+    dfsph = {"minIterations": 2, "maxIterations": 100, "maxError": args.tolerance, "maxIterationsV": 100,
+             "maxErrorV": 0.1, "enableDivergenceSolver": True}
+    # The solver's and the viscosity's keys are written twice: flat (SPlisHSPlasH up to 80b7284) and in their
+    # namespaces "DFSPH" and "Standard viscosity" (from c5a063d on); each version reads its own, ignores the other.
     return {
         "Configuration": {
             "pause": False,
@@ -121,20 +125,15 @@ def splishsplash_scene(args):
             "stopAt": args.end_time,
             "enablePartioExport": False,
             "enableVTKExport": False,
-            "DFSPH": {
-                "minIterations": 2,
-                "maxIterations": 100,
-                "maxError": args.tolerance,
-                "maxIterationsV": 100,
-                "maxErrorV": 0.1,
-                "enableDivergenceSolver": True,
-            },
+            "DFSPH": dfsph,
+            **dfsph,
         },
         "Materials": [{
             "id": "Fluid",
             "density0": DENSITY,
             "viscosityMethod": 1,
             "vorticityMethod": 0,
+            "viscosity": KINEMATIC_VISCOSITY,
             "Standard viscosity": {"viscosity": KINEMATIC_VISCOSITY},
         }],
         "RigidBodies": [{
