@@ -12,6 +12,7 @@
 #include "core/bodies/rigid_bodies.hpp"
 #include "core/io/geometry.hpp"
 #include "core/run/driver.hpp"
+#include "core/walls/obstacle_membership.hpp"
 #include "support.hpp"
 
 using namespace mps_lab;
@@ -395,7 +396,7 @@ TEST_CASE("moving walls: a rotating pose moves a body's wall particles rigidly -
   ParticleSet particles = build_particles(scene, true);
   const ParticleSet initial = particles;
   const MovingWalls walls(scene, particles);
-  const Vec2 c0 = obstacle_reference(scene, 0);
+  const Vec2 c0 = obstacle_rest_centroid(scene, 0);
   CHECK((c0 - Vec2(0.9, 0.45)).norm() < 1e-12);
   std::vector<RigidPose> poses(1);
   RigidPose& pose = poses[0];

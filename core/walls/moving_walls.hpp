@@ -39,10 +39,6 @@ struct RigidPose {
 // The pose of a motion law at time t (s): a translation, theta = 0.
 RigidPose law_pose(const WallMotion& motion, double t);
 
-// The reference point x_c0 of obstacle k (m): the area centroid of its surface (a box's
-// surface is the box grown by l0/2, core/walls/wall_geometry.hpp; a circle's its centre).
-Vec2 obstacle_reference(const Scene& scene, std::size_t k);
-
 class MovingWalls {
  public:
   // `initial`: the particles as build_particles made them (same order as the run's).

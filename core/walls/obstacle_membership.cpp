@@ -15,8 +15,12 @@ bool on_tank_wall(const Vec2& x, const Scene& scene, double eps) {
          (w.bottom && x.y() <= d.min.y() + eps) || (w.top && x.y() >= d.max.y() - eps);
 }
 
+// Whether the scene's obstacle k holds the wall point x: inside or on its polygon, or its box.
 bool holds(const Scene& scene, std::size_t k, const Vec2& x, double eps) {
-  if (scene.walls.is_polygon(k)) return inside_polygon(x, scene.walls.polygons[k]);
+  if (scene.walls.is_polygon(k)) {
+    const Polygon& polygon = scene.walls.polygons[k];
+    return inside_polygon(x, polygon) || distance_to_polygon(x, polygon) <= eps;
+  }
   const Box& box = scene.walls.obstacles[k];
   return x.x() >= box.min.x() - eps && x.x() <= box.max.x() + eps && x.y() >= box.min.y() - eps &&
          x.y() <= box.max.y() + eps;
@@ -39,22 +43,23 @@ std::vector<std::int32_t> obstacle_of_wall_particles(const Scene& scene, const P
 }
 
 Vec2 obstacle_rest_centroid(const Scene& scene, std::size_t k) {
-  if (!scene.walls.is_polygon(k)) {
-    const Box& box = scene.walls.obstacles[k];
-    return 0.5 * (box.min + box.max);
+  if (scene.walls.is_circle(k)) return scene.walls.circles[k].centre;
+  if (scene.walls.is_polygon(k)) {
+    // Area centroid of a lamina, (1 / 6A) sum over edges (x_a + x_b) (x_a x x_b), taken about
+    // the first vertex to keep rounding small (core/bodies/mass_properties.hpp).
+    const Polygon& polygon = scene.walls.polygons[k];
+    double twice_area = 0.0;
+    Vec2 first = Vec2::Zero();
+    for (std::size_t i = 0; i < polygon.size(); ++i) {
+      const Vec2 a = polygon[i] - polygon[0], b = polygon[(i + 1) % polygon.size()] - polygon[0];
+      const double c = a.x() * b.y() - b.x() * a.y();
+      twice_area += c;
+      first += (a + b) * c;
+    }
+    return polygon[0] + first / (3.0 * twice_area);
   }
-  const Polygon& polygon = scene.walls.polygons[k];
-  // Centroid of a lamina: sum over edges of (x_a + x_b) (x_a x x_b) / (6 A).
-  double twice_area = 0.0;
-  Vec2 sum = Vec2::Zero();
-  for (std::size_t a = 0; a < polygon.size(); ++a) {
-    const Vec2& p = polygon[a];
-    const Vec2& q = polygon[(a + 1) % polygon.size()];
-    const double cross = p.x() * q.y() - q.x() * p.y();
-    twice_area += cross;
-    sum += (p + q) * cross;
-  }
-  return sum / (3.0 * twice_area);
+  const Box& box = scene.walls.obstacles[k];
+  return 0.5 * (box.min + box.max);
 }
 
 void sum_obstacle_loads(const Scene& scene, const ParticleSet& particles,

@@ -21,11 +21,13 @@ namespace mps_lab {
 constexpr std::int32_t kNoObstacle = -1;
 
 // Per particle of `initial` (index = id): the obstacle k it belongs to, or kNoObstacle (fluid,
-// tank walls, ghosts).
+// tank walls, ghosts). The first obstacle that holds a wall point (inside or on its polygon, or
+// in its closed box) owns it; a point a tank wall also holds stays with the tank.
 std::vector<std::int32_t> obstacle_of_wall_particles(const Scene& scene, const ParticleSet& initial);
 
-// The area centroid of obstacle k where the scene puts it, m: the centre of a box, the centroid
-// of a polygon's surface (the lamina formula over the shoelace triangles).
+// The area centroid of obstacle k where the scene puts it, m: the centre of a box (its surface is
+// the box grown by l0/2) or of a circle, the centroid of a polygon's surface (the lamina formula).
+// The reference point of a moving obstacle's pose (core/walls/moving_walls.hpp) and of its load.
 Vec2 obstacle_rest_centroid(const Scene& scene, std::size_t k);
 
 // The loads at time t (s): force[k] = sum of reaction[j] over the wall particles j of obstacle k
