@@ -163,9 +163,11 @@ class EisphMethod final : public Method {
     check_restored_search(in, "eisph", neighbours_, samples_, walls_, acceleration_.size());
   }
 
-  // Cell-ordered particles (core/search/cell_order.hpp): what save_state keeps per particle.
+  // Loads on obstacles (core/walls/obstacle_loads.hpp): the fluid's force on each wall particle
+  // in the last step, N/m; null without obstacles or without wall particles (Method::wall_reactions).
   const std::vector<Vec2>* wall_reactions() const override { return computes_reactions_ ? &reaction_ : nullptr; }
 
+  // Cell-ordered particles (core/search/cell_order.hpp): what save_state keeps per particle.
   void permute_state(const ParticleOrder& order) override {
     permute_neighbour_list(neighbours_, order);
     permute_wall_samples(samples_, order);
