@@ -12,6 +12,7 @@
 #include <string>
 #include <vector>
 
+#include "core/base/error.hpp"
 #include "core/base/particles.hpp"
 #include "core/io/scene.hpp"
 #include "core/run/method.hpp"
@@ -33,6 +34,16 @@ inline std::string scene_path(const std::string& name) { return std::string(MPS_
 
 inline Scene load(const std::string& name, const std::vector<std::string>& overrides = {}) {
   return load_scene(scene_path(name), overrides, registries().methods, registries().walls);
+}
+
+// The one-line error of scenes/<name> with `overrides`, "" if the scene loads.
+inline std::string scene_error(const std::string& name, const std::vector<std::string>& overrides) {
+  try {
+    load(name, overrides);
+  } catch (const InputError& error) {
+    return error.what();
+  }
+  return "";
 }
 
 inline Scene parse(const std::string& json_text, const std::string& source = "inline.json") {

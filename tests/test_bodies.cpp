@@ -23,15 +23,6 @@ namespace {
 
 constexpr double kPi = 3.141592653589793;
 
-std::string scene_error(const std::string& name, const std::vector<std::string>& overrides) {
-  try {
-    load(name, overrides);
-  } catch (const InputError& error) {
-    return error.what();
-  }
-  return "";
-}
-
 // The disc scene's error with its obstacles replaced by `obstacles` (JSON).
 std::string obstacle_error(const std::string& obstacles) {
   return scene_error("disc_on_slope.json", {"walls.obstacles=" + obstacles});

@@ -23,16 +23,6 @@ namespace {
 
 constexpr double kPi = 3.141592653589793;
 
-// A scene error's message, "" if the scene loads.
-std::string scene_error(const std::string& name, const std::vector<std::string>& overrides) {
-  try {
-    load(name, overrides);
-  } catch (const InputError& error) {
-    return error.what();
-  }
-  return "";
-}
-
 // The gate scene's error for a motion block given as JSON.
 std::string motion_error(const std::string& motion_json) {
   return scene_error("dambreak_gate.json", {"walls.obstacles=[{\"min\": [0.25, 0.0], \"max\": [0.275, 0.55], "
