@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstddef>
 #include <stdexcept>
+#include <string>
 
 #include <omp.h>
 
@@ -613,6 +614,24 @@ std::vector<AmgLevelInfo> AmgPreconditioner::levels() const {
     info.push_back({a.rows, a.nonzeros(), coarsest ? std::size_t{0} : levels_[level].prolongator.nonzeros()});
   }
   return info;
+}
+
+MemoryBreakdown AmgPreconditioner::memory_breakdown() const {
+  MemoryBreakdown out;
+  for (std::size_t level = 0; level < levels_.size(); ++level) {
+    const Level& l = levels_[level];
+    const std::string name = "level" + std::to_string(level) + ".";
+    out.emplace_back(name + "matrix", l.matrix.held_bytes());  // level 0: the caller's (not counted here)
+    out.emplace_back(name + "prolongator_restriction", l.prolongator.held_bytes() + l.restriction.held_bytes());
+    out.emplace_back(name + "galerkin_scratch", l.product.held_bytes());
+    out.emplace_back(name + "aggregation", held_bytes(l.strong, l.aggregate, l.visit_order, l.visited));
+    out.emplace_back(name + "vectors", held_bytes(l.inverse_diagonal, l.rhs, l.solution, l.residual, l.direction));
+  }
+  std::size_t scratch = 0;
+  for (const auto& own : thread_scratch_) scratch += held_bytes(own.column, own.position, own.value);
+  out.emplace_back("product_thread_scratch", scratch);
+  out.emplace_back("coarsest_factors", held_bytes(coarsest_factors_, coarsest_work_));
+  return out;
 }
 
 double AmgPreconditioner::operator_complexity() const {

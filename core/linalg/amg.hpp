@@ -104,6 +104,8 @@ class AmgPreconditioner final : public Preconditioner {
   std::vector<AmgLevelInfo> levels() const;
   // Sum of the nonzeros of every level over those of the finest (dense coarsest: its rows^2).
   double operator_complexity() const;
+  // Per level ("level0.matrix", "level0.prolongator", ...) and the shared scratch.
+  MemoryBreakdown memory_breakdown() const override;
   const AmgOptions& options() const { return options_; }
 
  private:

@@ -17,6 +17,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "core/base/memory_bytes.hpp"
 #include "core/base/parameters.hpp"
 #include "core/base/particles.hpp"
 #include "core/linalg/projection_solver.hpp"
@@ -85,6 +86,10 @@ class Method {
   // acceleration its pair terms (pressure and viscosity) gave i. Computed in every step of a
   // scene with obstacles and a boundary model of wall particles; null otherwise (the default).
   virtual const std::vector<Vec2>* wall_reactions() const { return nullptr; }
+  // The heap the method holds between steps, by structure (core/base/memory_bytes.hpp: the
+  // capacity of its big containers): `mps_lab bench` reports it beside the resident memory.
+  // Empty by default (the bench then reports the particles and the total only).
+  virtual MemoryBreakdown memory_breakdown() const { return {}; }
 };
 
 struct MethodSetup {

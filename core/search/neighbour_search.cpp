@@ -8,7 +8,15 @@
 
 #include <omp.h>
 
+#include "core/base/memory_bytes.hpp"
+
 namespace mps_lab {
+
+std::size_t CellList::held_bytes() const {
+  std::size_t bytes = mps_lab::held_bytes(cell_start_, sorted_, particle_cell_, sorted_positions_, fill_);
+  for (const auto& list : thread_lists_) bytes += mps_lab::held_bytes(list);
+  return bytes;
+}
 
 std::uint32_t NeighbourList::max_count() const {
   std::uint32_t largest = 0;

@@ -197,6 +197,19 @@ class IsphMethod final : public Method {
     walls_.permute_state(order);
   }
 
+  // `mps_lab bench`'s memory breakdown (docs/performance.md, "Memory"): the search, the
+  // per-particle arrays of the step and the pressure solve.
+  MemoryBreakdown memory_breakdown() const override {
+    MemoryBreakdown out = {
+        {"neighbour_list", held_bytes(neighbours_.offsets, neighbours_.indices)},
+        {"cell_list", cells_.held_bytes()},
+        {"wall_samples", held_bytes(samples_.offsets, samples_.samples)},
+        {"step_arrays", held_bytes(acceleration_, reaction_, renormalisation_, predicted_velocity_, start_position_,
+                                   start_velocity_, source_, position_divergence_, rest_density_field_)}};
+    append_breakdown(out, "ppe", ppe_.memory_breakdown());
+    return out;
+  }
+
  private:
   // The predictor (Shao & Lo 2003: u* = u^n + dt (g + nu lap u^n)), r* = r^n + dt u*, with the
   // wall hooks after the velocity and the position. Neighbours: the list of the last search

@@ -10,6 +10,14 @@ namespace mps_lab::isph {
 
 Eigen::SparseMatrix<double, Eigen::RowMajor> PressurePoissonSolver::matrix() const { return to_eigen(matrix_); }
 
+MemoryBreakdown PressurePoissonSolver::memory_breakdown() const {
+  MemoryBreakdown out = {{"matrix", matrix_.held_bytes()},
+                         {"assembly_slots", assembler_.held_bytes()},
+                         {"unknowns", held_bytes(row_of_, particle_of_, grounded_, rhs_)}};
+  append_breakdown(out, "solver", solver_.memory_breakdown());
+  return out;
+}
+
 // Fluid row `row` (particle i): Cummins & Rudman (1999) / Shao & Lo (2003), with the wall
 // samples' terms; sets the diagonal and b_i. Returns whether it touches a Dirichlet particle.
 bool PressurePoissonSolver::fluid_row(const RowInputs& in, int row, std::size_t i, CsrAssembler::RowWriter& writer) {

@@ -103,6 +103,10 @@ class PressurePoissonSolver {
   const std::vector<int>& row_of_particle() const { return row_of_; }  // -1: not an unknown
   const std::vector<int>& particle_of_row() const { return particle_of_; }
 
+  // The heap it holds between solves (core/base/memory_bytes.hpp): the matrix, the assembly's
+  // storage, the maps between particles and unknowns, the solver's vectors and preconditioner.
+  MemoryBreakdown memory_breakdown() const;
+
  private:
   // What every row of the assembly reads.
   struct RowInputs {
