@@ -89,11 +89,11 @@ struct KrylovResult {
 // Vectors of the iterations, kept between solves so that nothing is allocated once the sizes
 // have been seen.
 struct KrylovWorkspace {
-  std::vector<double> residual, direction, product, preconditioned, shadow, s, t, y, z;
+  std::vector<double> residual, direction, product, preconditioned, shadow, t, y, z;  // BiCGSTAB's s: in residual
   std::vector<double> partial;  // per-block partial sums of the reductions
 
   std::size_t held_bytes() const {
-    return mps_lab::held_bytes(residual, direction, product, preconditioned, shadow, s, t, y, z, partial);
+    return mps_lab::held_bytes(residual, direction, product, preconditioned, shadow, t, y, z, partial);
   }
 };
 
