@@ -3,8 +3,9 @@ draft and heave" and "Rising and sinking boxes").
 
 Scenes (each a polygon body, so its surface and mass are the same at every l0):
   - scenes/floating_box_heave.json: a box B x H = 0.2 x 0.1 m, rho_b = 500 kg/m^3, released at
-    its equilibrium draft d = rho_b/rho_w H with a downward velocity. The equilibrium draft
-    (time-mean of the centre over whole heave periods after the first one) against d, and the
+    rest a few mm off its equilibrium draft d = rho_b/rho_w H (`rest_level`). The equilibrium
+    draft (the rest level less the bottom's time-mean height over whole heave periods after the
+    first one) against d, and the
     heave (a damped sinusoid fitted to the centre height) against T = 2 pi sqrt((m + a33) /
     (rho g B)) with the Lewis-form added mass a33 (below).
   - scenes/rising_box.json, scenes/sinking_box.json: a square a = 0.06 m, rho_b = 500 / 1500,
@@ -35,12 +36,14 @@ CASES = {
     "rising": ("scenes/rising_box.json", (0.02, 0.01)),
     "sinking": ("scenes/sinking_box.json", (0.02, 0.01)),
 }
-HEAVE_FIT_END = 1.5  # s: the waves the box radiates (group speed g/(2 omega) ~ 0.5 m/s) come back
-#                      from the tank's sides (0.5 m away) after about 2 s
+HEAVE_FIT_END = 1.0  # s: about the first period; the longest waves the box radiates (sqrt(g h) =
+#                      1.7 m/s) are back from the tank's sides (0.5 m away) after 0.6 s, the
+#                      wave group (g / (2 omega) = 0.5 m/s) after 2 s, and the tank's first
+#                      symmetric sloshing mode has T = 0.92 s: later swings are not the box's alone
 ADDED_MASS_BAND = (0.6, 1.0)  # a33(omega) / a33(infinity) near omega^2 B/(2g) ~ 1 (docs/bodies.md)
 DRAG_COEFFICIENT = 2.0  # square cylinder broadside, Re 1e4-1e5 (Delany & Sorensen 1953; Hoerner 1965)
 SPEED_WINDOW = 0.05  # s: running mean of the body's vertical speed
-HEAVE_COLUMNS = ["method", "l0", "status", "draft_theory", "draft", "draft_error", "draft_layer_model", "period", "damping_ratio",
+HEAVE_COLUMNS = ["method", "l0", "status", "draft_theory", "rest_level", "release_offset", "draft", "draft_error", "period", "damping_ratio",
                  "natural_period", "period_estimate_low", "period_estimate_high", "frequency_number", "theta_max"]
 DROP_COLUMNS = ["case", "method", "l0", "status", "speed_max", "speed_drag", "speed_drag_blocked", "reynolds",
                 "time_of_max", "theta_max"]
@@ -111,12 +114,20 @@ def fit_damped_heave(t: np.ndarray, y: np.ndarray) -> dict:
     def model(tt, y0, amplitude, decay, omega, phase):
         return y0 + amplitude * np.exp(-decay * tt) * np.sin(omega * tt + phase)
 
-    # First guess: the spacing of the mean crossings.
-    centred = y - y.mean()
-    crossings = t[1:][np.diff(np.sign(centred)) != 0]
-    period_guess = 2 * float(np.mean(np.diff(crossings))) if len(crossings) > 2 else 0.7
-    guess = [y.mean(), float(np.max(np.abs(centred))), 1.0, 2 * math.pi / period_guess, math.pi]
-    parameters, _ = curve_fit(model, t, y, p0=guess, maxfev=20000)
+    # First guess: the period of the estimate (0.7 s), within 0.3-1.5 s; the best of four phases.
+    centred = y - y[-1]
+    best = None
+    for phase in (0.0, 0.5 * math.pi, math.pi, 1.5 * math.pi):
+        guess = [y[-1], float(np.max(np.abs(centred))), 1.0, 2 * math.pi / 0.7, phase]
+        bounds = ([-np.inf, 0.0, 0.0, 2 * math.pi / 1.5, -10.0], [np.inf, np.inf, 50.0, 2 * math.pi / 0.3, 20.0])
+        try:
+            found, _ = curve_fit(model, t, y, p0=guess, bounds=bounds, maxfev=20000)
+        except RuntimeError:
+            continue
+        error = float(np.sum((model(t, *found) - y) ** 2))
+        if best is None or error < best[0]:
+            best = (error, found)
+    parameters = best[1]
     y0, amplitude, decay, omega, _ = parameters
     omega = abs(omega)
     zeta = decay / math.hypot(omega, decay)  # decay = zeta omega_n, omega_d = omega_n sqrt(1 - zeta^2)
@@ -124,31 +135,40 @@ def fit_damped_heave(t: np.ndarray, y: np.ndarray) -> dict:
             "natural_period": 2 * math.pi / math.hypot(omega, decay)}
 
 
-def heave_metrics(series: dict, geometry: dict) -> dict:
-    """Draft (time-mean of the centre over whole periods from the end of the first period) and
-    the fitted heave of one run; the draft error is (d_measured - d) / d, positive when deeper."""
+def rest_level(series: dict, geometry: dict, l0: float) -> float:
+    """The water level at rest with the body at its draft d, m. The fluid's particles sit on the
+    lattice domain.min + k l0, the first wall particles of the bed and the sides on the domain's
+    edges, and the wall surfaces l0/2 inside them (docs/walls.md): the water is N l0^2 of area
+    (its lattice points outside the body) over a bed at y = l0/2 between sides W - l0 apart, so
+    (W - l0)(eta - l0/2) = N l0^2 + B d. (Not the fluid block's top: with l0 = 0.025 m the block
+    [0, 0.3] gives a surface at 0.2875 m.)"""
+    draft = geometry["rho_b"] / geometry["rho_w"] * geometry["height"]
+    area = series["fluid_particles"][0] * l0 * l0 + geometry["width"] * draft
+    return l0 / 2 + area / (geometry["tank_width"] - l0)
+
+
+def heave_metrics(series: dict, geometry: dict, l0: float) -> dict:
+    """Draft (the rest level less the bottom's time-mean height over whole periods from the end
+    of the first one) and the fitted heave of one run; the draft error is (d_measured - d) / d,
+    positive when deeper."""
     t, y = series["time"], series["body_0_y"]
-    if float(np.min(y)) < geometry["centre_y"] - geometry["height"]:  # its top went below the surface
+    level = rest_level(series, geometry, l0)
+    if float(np.min(y)) < level - geometry["height"]:  # its centre went H below the surface: it sank
         return {"floats": False, "draft": float("nan")}
     fit = fit_damped_heave(t[t <= HEAVE_FIT_END], y[t <= HEAVE_FIT_END])
     period = fit["period"]
     whole = math.floor((t[-1] - period) / period)
     window = (t >= period) & (t <= period * (1 + whole))
     theory = heave_theory(geometry)
-    draft = theory["draft"] + geometry["centre_y"] - float(np.mean(y[window]))
+    draft = level - (float(np.mean(y[window])) - geometry["height"] / 2)
     omega = 2 * math.pi / period
-    return {"floats": True, "draft_theory": theory["draft"], "draft": draft, "draft_error": (draft - theory["draft"]) / theory["draft"],
-            "period": period, "damping_ratio": fit["damping_ratio"], "natural_period": fit["natural_period"],
+    return {"floats": True, "draft_theory": theory["draft"], "draft": draft, "rest_level": level,
+            "release_offset": float(y[0]) - (level - theory["draft"] + geometry["height"] / 2),
+            "draft_error": (draft - theory["draft"]) / theory["draft"], "period": period,
+            "damping_ratio": fit["damping_ratio"], "natural_period": fit["natural_period"],
             "period_estimate_low": theory["period_low"], "period_estimate_high": theory["period_high"],
             "frequency_number": omega ** 2 * geometry["width"] / (2 * geometry["g"]),
             "theta_max": float(np.max(np.abs(series["body_0_theta"])))}
-
-
-def layer_draft(geometry: dict, l0: float) -> float:
-    """The draft if the fluid saw the body at its first layer of wall particles, l0/2 inside the
-    polygon (bottom l0/2 higher, width B - l0): rho_w g (B - l0)(d' - l0/2) = rho_b g B H, m."""
-    return l0 / 2 + geometry["rho_b"] * geometry["width"] * geometry["height"] / (geometry["rho_w"] *
-                                                                                (geometry["width"] - l0))
 
 
 def drag_speed(geometry: dict, drag_coefficient: float = DRAG_COEFFICIENT) -> float:
@@ -210,10 +230,10 @@ def row_of(request, status: str) -> dict:
             geometry = scene_geometry(json.load(handle))
         series = data.read_csv_columns(series_path)
         if len(series["time"]) > 20:
-            metrics = heave_metrics if request.extra["case"] == "heave" else drop_metrics
-            row.update(metrics(series, geometry))
             if request.extra["case"] == "heave":
-                row["draft_layer_model"] = layer_draft(geometry, request.extra["l0"])
+                row.update(heave_metrics(series, geometry, request.extra["l0"]))
+            else:
+                row.update(drop_metrics(series, geometry))
     return row
 
 
@@ -257,9 +277,8 @@ def plot(rows: list[dict], path: str) -> None:
     for row in heave:
         series = data.read_csv_columns(os.path.join(row["folder"], "series.csv"))
         axes[0].plot(series["time"], series["body_0_y"], lw=0.8, label=f"{row['method']} l0 = {row['l0']:g}")
-    axes[0].axhline(0.3, color="k", lw=0.5)
     axes[0].set_xlabel("t, s")
-    axes[0].set_ylabel("box centre y, m (theory at rest: 0.300)")
+    axes[0].set_ylabel("box centre y, m")
     axes[0].legend(fontsize=6)
     for method in sorted({r["method"] for r in heave}):
         done = sorted((r for r in heave if r["method"] == method), key=lambda r: r["l0"])
@@ -283,6 +302,21 @@ def plot(rows: list[dict], path: str) -> None:
     figure.savefig(path, dpi=120)
 
 
+def earlier_cases(root: str, out: str, cases: dict, names: set[str]):
+    """Requests for the completed case folders of DIR that this invocation did not ask for (another
+    method or spacing run before), so that the tables hold every case DIR has."""
+    for entry in sorted(os.listdir(out)):
+        parts = entry.split("_")
+        if entry in names or len(parts) != 3 or parts[0] not in cases:
+            continue
+        folder = os.path.join(out, entry)
+        summary = common.run_summary(folder)
+        if summary is None or summary.get("status") != "completed":
+            continue
+        yield runner.CaseRequest(entry, [], folder, {"case": parts[0], "method": parts[1], "l0": float(parts[2]),
+                                                     "scene": os.path.join(root, cases[parts[0]][0])})
+
+
 def run_study(root: str, out: str, binary: str, methods: list[str] | None, cases: dict, parallel: int,
               timeout: float) -> list[dict]:
     methods = methods or registered_methods(binary)
@@ -301,6 +335,8 @@ def run_study(root: str, out: str, binary: str, methods: list[str] | None, cases
               + ", ".join(f"{k} {row[k]:.4g}" for k in ("draft_error", "period", "damping_ratio", "speed_max")
                           if k in row), flush=True)
         rows.append(row)
+    names = {row["folder"].rstrip("/").split("/")[-1] for row in rows}
+    rows += [row_of(request, "completed") for request in earlier_cases(root, out, cases, names)]
     write_tables(rows, out)
     plot(rows, os.path.join(out, "floating_bodies.png"))
     return rows
