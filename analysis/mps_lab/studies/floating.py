@@ -163,6 +163,7 @@ def heave_metrics(series: dict, geometry: dict, l0: float) -> dict:
     draft = level - (float(np.mean(y[window])) - geometry["height"] / 2)
     omega = 2 * math.pi / period
     return {"floats": True, "draft_theory": theory["draft"], "draft": draft, "rest_level": level,
+            "rest_centre": level - theory["draft"] + geometry["height"] / 2,
             "release_offset": float(y[0]) - (level - theory["draft"] + geometry["height"] / 2),
             "draft_error": (draft - theory["draft"]) / theory["draft"], "period": period,
             "damping_ratio": fit["damping_ratio"], "natural_period": fit["natural_period"],
@@ -232,6 +233,8 @@ def row_of(request, status: str) -> dict:
         if len(series["time"]) > 20:
             if request.extra["case"] == "heave":
                 row.update(heave_metrics(series, geometry, request.extra["l0"]))
+                if not row["floats"]:
+                    row["status"] += " (the box sank)"
             else:
                 row.update(drop_metrics(series, geometry))
     return row
@@ -276,9 +279,11 @@ def plot(rows: list[dict], path: str) -> None:
     heave = [r for r in rows if r["case"] == "heave" and r.get("floats")]
     for row in heave:
         series = data.read_csv_columns(os.path.join(row["folder"], "series.csv"))
-        axes[0].plot(series["time"], series["body_0_y"], lw=0.8, label=f"{row['method']} l0 = {row['l0']:g}")
+        axes[0].plot(series["time"], series["body_0_y"] - row["rest_centre"], lw=0.8, label=f"{row['method']} l0 = {row['l0']:g}")
     axes[0].set_xlabel("t, s")
-    axes[0].set_ylabel("box centre y, m")
+    axes[0].axhline(0.0, color="k", lw=0.5)
+    axes[0].axvspan(0.0, HEAVE_FIT_END, color="0.92", zorder=0)
+    axes[0].set_ylabel("box centre - its rest position, m (fit: grey)")
     axes[0].legend(fontsize=6)
     for method in sorted({r["method"] for r in heave}):
         done = sorted((r for r in heave if r["method"] == method), key=lambda r: r["l0"])
@@ -289,14 +294,17 @@ def plot(rows: list[dict], path: str) -> None:
     axes[1].legend(fontsize=7)
     for row in (r for r in rows if r["case"] != "heave" and "speed_max" in r):
         series = data.read_csv_columns(os.path.join(row["folder"], "series.csv"))
-        axes[2].plot(series["time"], np.abs(series["body_0_v"]), lw=0.8,
+        samples = max(1, int(round(SPEED_WINDOW / float(np.median(np.diff(series["time"]))))))
+        mean = np.convolve(np.abs(series["body_0_v"]), np.ones(samples) / samples, mode="same")
+        axes[2].plot(series["time"], mean, "-" if row["case"] == "rising" else "--", lw=0.8,
                      label=f"{row['case']} {row['method']} l0 = {row['l0']:g}")
     drops = [r for r in rows if r["case"] != "heave" and "speed_drag" in r]
     if drops:
         axes[2].axhline(drops[0]["speed_drag"], color="k", ls="--", label="drag, C_d = 2.0")
         axes[2].axhline(drops[0]["speed_drag_blocked"], color="k", ls=":", label="drag with blockage")
     axes[2].set_xlabel("t, s")
-    axes[2].set_ylabel("|v| of the box, m/s")
+    axes[2].set_ylabel(f"|v| of the box ({SPEED_WINDOW} s running mean), m/s")
+    axes[2].set_ylim(0.0, 1.0)
     axes[2].legend(fontsize=5)
     figure.tight_layout()
     figure.savefig(path, dpi=120)
