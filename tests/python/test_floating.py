@@ -55,8 +55,9 @@ class TheoryTest(unittest.TestCase):
         omega_d = omega_n * math.sqrt(1 - zeta * zeta)
         y = 0.29 - 0.02 * np.exp(-zeta * omega_n * t) * np.cos(omega_d * t)
         fit = floating.fit_damped_heave(t, y)
-        self.assertAlmostEqual(fit["period"], 2 * math.pi / omega_d, places=4)
-        self.assertAlmostEqual(fit["damping_ratio"], zeta, places=4)
+        # The fit's last grid steps: omega 0.0016 rad/s (period 2e-4 s), decay 0.002 1/s (zeta 2.4e-4).
+        self.assertAlmostEqual(fit["period"], 2 * math.pi / omega_d, delta=3e-4)
+        self.assertAlmostEqual(fit["damping_ratio"], zeta, delta=3e-4)
         self.assertAlmostEqual(fit["y0"], 0.29, places=6)
 
 

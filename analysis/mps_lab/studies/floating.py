@@ -40,7 +40,7 @@ HEAVE_FIT_END = 1.0  # s: about the first period; the longest waves the box radi
 #                      1.7 m/s) are back from the tank's sides (0.5 m away) after 0.6 s, the
 #                      wave group (g / (2 omega) = 0.5 m/s) after 2 s, and the tank's first
 #                      symmetric sloshing mode has T = 0.92 s: later swings are not the box's alone
-ADDED_MASS_BAND = (0.6, 1.0)  # a33(omega) / a33(infinity) near omega^2 B/(2g) ~ 1 (docs/bodies.md)
+ADDED_MASS_BAND = (0.6, 1.0)  # a33(omega) / a33(infinity) assumed near omega^2 B/(2g) ~ 0.6 (docs/bodies.md)
 DRAG_COEFFICIENT = 2.0  # square cylinder broadside, Re 1e4-1e5 (Delany & Sorensen 1953; Hoerner 1965)
 SPEED_WINDOW = 0.05  # s: running mean of the body's vertical speed
 HEAVE_COLUMNS = ["method", "l0", "status", "draft_theory", "rest_level", "release_offset", "draft", "draft_error", "period", "damping_ratio",
@@ -106,33 +106,32 @@ def heave_theory(geometry: dict) -> dict:
             "added_mass_infinite": a33, "period_low": periods[0], "period_high": periods[1]}
 
 
+def linear_heave_fit(t: np.ndarray, y: np.ndarray, decay: float, omega: float) -> tuple[float, np.ndarray]:
+    """For a given decay rate and omega, y = y0 + exp(-decay t)(a sin(omega t) + b cos(omega t)) is
+    linear in (y0, a, b): its least-squares residual and coefficients."""
+    envelope = np.exp(-decay * t)
+    basis = np.column_stack([np.ones_like(t), envelope * np.sin(omega * t), envelope * np.cos(omega * t)])
+    coefficients, *_ = np.linalg.lstsq(basis, y, rcond=None)
+    return float(np.sum((basis @ coefficients - y) ** 2)), coefficients
+
+
 def fit_damped_heave(t: np.ndarray, y: np.ndarray) -> dict:
-    """y = y0 + A exp(-zeta omega_n t) sin(omega_d t + phi) fitted by least squares (scipy) over
-    the samples given; returns the damped period 2 pi/omega_d, zeta and y0."""
-    from scipy.optimize import curve_fit
-
-    def model(tt, y0, amplitude, decay, omega, phase):
-        return y0 + amplitude * np.exp(-decay * tt) * np.sin(omega * tt + phase)
-
-    # First guess: the period of the estimate (0.7 s), within 0.3-1.5 s; the best of four phases.
-    centred = y - y[-1]
-    best = None
-    for phase in (0.0, 0.5 * math.pi, math.pi, 1.5 * math.pi):
-        guess = [y[-1], float(np.max(np.abs(centred))), 1.0, 2 * math.pi / 0.7, phase]
-        bounds = ([-np.inf, 0.0, 0.0, 2 * math.pi / 1.5, -10.0], [np.inf, np.inf, 50.0, 2 * math.pi / 0.3, 20.0])
-        try:
-            found, _ = curve_fit(model, t, y, p0=guess, bounds=bounds, maxfev=20000)
-        except RuntimeError:
-            continue
-        error = float(np.sum((model(t, *found) - y) ** 2))
-        if best is None or error < best[0]:
-            best = (error, found)
-    parameters = best[1]
-    y0, amplitude, decay, omega, _ = parameters
-    omega = abs(omega)
+    """y = y0 + A exp(-zeta omega_n t) sin(omega_d t + phi) fitted by least squares over the samples
+    given (numpy only): a grid over omega_d (periods 0.3-1.5 s) and the decay rate (0-20 1/s),
+    linear least squares for the rest, refined twice on a grid ten times finer around the best.
+    Returns the damped period 2 pi/omega_d, zeta and y0."""
+    omegas = np.linspace(2 * math.pi / 1.5, 2 * math.pi / 0.3, 200)
+    decays = np.linspace(0.0, 20.0, 101)
+    for _ in range(3):
+        best = min((linear_heave_fit(t, y, decay, omega)[0], decay, omega) for omega in omegas for decay in decays)
+        _, decay, omega = best
+        d_omega, d_decay = omegas[1] - omegas[0], decays[1] - decays[0]
+        omegas = np.linspace(omega - d_omega, omega + d_omega, 21)
+        decays = np.linspace(max(decay - d_decay, 0.0), decay + d_decay, 21)
+    _, coefficients = linear_heave_fit(t, y, decay, omega)
     zeta = decay / math.hypot(omega, decay)  # decay = zeta omega_n, omega_d = omega_n sqrt(1 - zeta^2)
-    return {"y0": y0, "amplitude": abs(amplitude), "period": 2 * math.pi / omega, "damping_ratio": zeta,
-            "natural_period": 2 * math.pi / math.hypot(omega, decay)}
+    return {"y0": float(coefficients[0]), "amplitude": float(math.hypot(coefficients[1], coefficients[2])),
+            "period": 2 * math.pi / omega, "damping_ratio": zeta, "natural_period": 2 * math.pi / math.hypot(omega, decay)}
 
 
 def rest_level(series: dict, geometry: dict, l0: float) -> float:
