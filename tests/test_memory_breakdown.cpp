@@ -71,15 +71,22 @@ TEST_CASE("in-place row assembly gives the padded assembler's matrix bit for bit
   int counted = 0;
   for (int row = 0; row < kRows; ++row) counted += counted_length(row);
   CHECK(matrix.nonzeros() == static_cast<std::size_t>(counted - 2));
-  // A row with more entries than its count is an error, not an overwrite of the next row.
+  // A row with more entries than its count is an error (at finish: close() runs inside the
+  // parallel loop), not an overwrite of the next row.
   in_place.start(matrix, 2);
   in_place.count(0, 1);
   in_place.count(1, 1);
   in_place.place(matrix);
-  auto writer = in_place.row(0);
-  writer.add(0, 1.0);
-  writer.add(1, 2.0);
-  CHECK_THROWS_AS(writer.close(), std::logic_error);
+  auto second = in_place.row(1);
+  second.add(0, 3.0);
+  second.close();
+  auto first = in_place.row(0);
+  first.add(0, 1.0);
+  first.add(1, 2.0);  // past row 0's count
+  first.close();
+  CHECK(matrix.column[1] == 0);  // row 1's entry, not row 0's second
+  CHECK(matrix.value[1] == 3.0);
+  CHECK_THROWS_AS(in_place.finish(matrix, true), std::logic_error);
 }
 
 #ifdef MPS_LAB_WITH_ISPH

@@ -47,11 +47,6 @@ void CsrAssembler::finish(CsrMatrix& matrix, bool diagonal_first) {
   }
 }
 
-void CsrInPlaceAssembler::RowWriter::close() {
-  if (end_ > limit_) throw std::logic_error("CsrInPlaceAssembler: a row has more entries than its count");
-  owner_.length_[static_cast<std::size_t>(row_)] = end_ - begin_;
-}
-
 void CsrInPlaceAssembler::start(CsrMatrix& matrix, int rows) {
   matrix_ = &matrix;
   rows_ = rows;
@@ -72,9 +67,11 @@ void CsrInPlaceAssembler::place(CsrMatrix& matrix) {
 void CsrInPlaceAssembler::finish(CsrMatrix& matrix, bool diagonal_first) {
   matrix.diagonal_first = diagonal_first;
   int first_short = rows_;
-  for (int row = 0; row < rows_ && first_short == rows_; ++row) {
+  for (int row = rows_ - 1; row >= 0; --row) {
     const auto r = static_cast<std::size_t>(row);
-    if (length_[r] != matrix.row_start[r + 1] - matrix.row_start[r]) first_short = row;
+    const int counted = matrix.row_start[r + 1] - matrix.row_start[r];
+    if (length_[r] > counted) throw std::logic_error("CsrInPlaceAssembler: a row has more entries than its count");
+    if (length_[r] < counted) first_short = row;
   }
   if (first_short == rows_) return;  // every row as counted: nothing to move
   // Close up the gaps: every row moves towards the front (destination <= source), in order.

@@ -106,9 +106,11 @@ class CsrAssembler {
 //   #pragma omp parallel for
 //   for (int row ...) { auto writer = assembler.row(row); writer.add(column, value); ... writer.close(); }
 //   assembler.finish(matrix, /*diagonal_first=*/true);
-// A row longer than its count throws std::logic_error at close(); rows shorter than their
-// count are closed up by finish() (sequentially, only in a step that has one). The entries and
-// their order are those the writer received, as with CsrAssembler: the same matrix, bit for bit.
+// A row longer than its count makes finish() throw std::logic_error (its entries past the
+// count were not written; close() only records the length, as it runs inside the parallel
+// loop, where an exception cannot leave); rows shorter than their count are closed up by finish() (sequentially, only
+// in a step that has one). The entries and their order are those the writer received, as with CsrAssembler: the same
+// matrix, bit for bit.
 class CsrInPlaceAssembler {
  public:
   class RowWriter {
@@ -122,7 +124,7 @@ class CsrInPlaceAssembler {
           column_(owner.matrix_->column.data()),
           value_(owner.matrix_->value.data()) {}
     void add(int column, double value) {
-      if (end_ < limit_) {  // past the count: reported by close()
+      if (end_ < limit_) {  // past the count: reported by finish()
         column_[end_] = column;
         value_[end_] = value;
       }
@@ -130,7 +132,7 @@ class CsrInPlaceAssembler {
     }
     int size() const { return end_ - begin_; }
     double& value(int entry) { return value_[begin_ + entry]; }  // entry < size()
-    void close();
+    void close() { owner_.length_[static_cast<std::size_t>(row_)] = end_ - begin_; }
 
    private:
     CsrInPlaceAssembler& owner_;
