@@ -10,6 +10,7 @@
 #include <unistd.h>
 
 #include "core/base/error.hpp"
+#include "core/base/memory_bytes.hpp"
 #include "core/io/geometry.hpp"
 #include "core/io/output.hpp"
 #include "core/io/scene.hpp"
@@ -99,6 +100,33 @@ const char* main_solver_phase(const nlohmann::json& phases) {
   return nullptr;
 }
 
+// The heap the particles hold (capacities of their arrays and fields), bytes.
+std::size_t particle_bytes(const ParticleSet& particles) {
+  std::size_t bytes =
+      held_bytes(particles.position, particles.velocity, particles.pressure, particles.type, particles.wall_layer,
+                 particles.wall_velocity, particles.wall_acceleration, particles.id);
+  for (const auto& field : particles.scalar_fields) bytes += held_bytes(field.second);
+  return bytes;
+}
+
+// The memory breakdown of a case (bytes per particle): the particles and the method's own
+// (Method::memory_breakdown), and their sum ("accounted"): what the resident figure has beyond
+// it is the rest of the Simulation (wall treatments, diagnostics, moving walls) and the
+// allocator's pages.
+void add_memory_breakdown(const Simulation& simulation, nlohmann::json& result) {
+  const auto n = static_cast<double>(simulation.particles().size());
+  nlohmann::json breakdown = nlohmann::json::object();
+  double accounted = 0.0;
+  const auto add = [&](const std::string& name, std::size_t bytes) {
+    breakdown[name] = static_cast<double>(bytes) / n;
+    accounted += static_cast<double>(bytes);
+  };
+  add("particles", particle_bytes(simulation.particles()));
+  for (const auto& [name, bytes] : simulation.method().memory_breakdown()) add(name, bytes);
+  result["memory_breakdown_bytes_per_particle"] = breakdown;
+  result["memory_accounted_bytes_per_particle"] = accounted / n;
+}
+
 nlohmann::json method_case(const Scene& scene, const MethodInfo& info, const BenchmarkOptions& options) {
   const std::size_t memory_before = resident_memory_bytes();
   Simulation simulation(scene, info);
@@ -136,6 +164,7 @@ nlohmann::json method_case(const Scene& scene, const MethodInfo& info, const Ben
     }
     const double held = static_cast<double>(memory_after) - static_cast<double>(memory_before);
     result["memory_bytes_per_particle"] = std::max(0.0, held) / static_cast<double>(simulation.particles().size());
+    add_memory_breakdown(simulation, result);
   } catch (const std::exception& error) {
     result["status"] = "failed";
     result["message"] = error.what();
@@ -147,6 +176,28 @@ std::string fixed(double value, int digits) {
   char text[64];
   std::snprintf(text, sizeof text, "%.*f", digits, value);
   return text;
+}
+
+// One line per completed case with a breakdown: the resident figure, the accounted sum and
+// every structure of at least 1 B per particle, largest first.
+std::string memory_table(const nlohmann::json& results) {
+  std::string out;
+  for (const auto& c : results.at("cases")) {
+    if (c.at("kind") != "steps" || !c.contains("memory_breakdown_bytes_per_particle")) continue;
+    if (out.empty()) out = "\nmemory, B/particle (resident; accounted = the capacities below)\n";
+    std::vector<std::pair<double, std::string>> items;
+    for (const auto& item : c.at("memory_breakdown_bytes_per_particle").items())
+      items.emplace_back(item.value().get<double>(), item.key());
+    std::sort(items.rbegin(), items.rend());
+    out += c.at("method").get<std::string>() + " l0 " + fixed(c.at("particle_spacing").get<double>(), 5) + " thr " +
+           std::to_string(c.at("threads").get<int>()) + ": resident " +
+           fixed(c.at("memory_bytes_per_particle").get<double>(), 0) + ", accounted " +
+           fixed(c.at("memory_accounted_bytes_per_particle").get<double>(), 0) + ":";
+    for (const auto& [bytes, name] : items)
+      if (bytes >= 1.0) out += " " + name + " " + fixed(bytes, bytes < 10.0 ? 1 : 0) + ",";
+    out.back() = '\n';
+  }
+  return out;
 }
 
 }  // namespace
@@ -247,6 +298,7 @@ std::string benchmark_table(const nlohmann::json& results) {
                   c.at("memory_bytes_per_particle").get<double>(), breakdown.c_str());
     out += line;
   }
+  out += memory_table(results);
   bool header = false;
   for (const auto& c : results.at("cases")) {
     if (c.at("kind") != "kernels") continue;

@@ -46,6 +46,42 @@ double diagonal_of_row(const CsrMatrix& matrix, int row) {
   return 0.0;
 }
 
+// Where a thread builds its contiguous range of rows of a result: thread 0's rows begin at entry
+// 0 of the result, so it writes them there directly; every other thread into its scratch, copied
+// into place once the row lengths are known. No copy of the thread-0 part is held (with two
+// threads, half a result less in scratch).
+struct RowBuffer {
+  std::vector<int>& column;
+  std::vector<double>& value;
+  std::size_t growth_divisor;  // grow by size / this: the vectors are kept at their largest
+  void ensure(std::size_t size) {
+    if (column.size() >= size) return;
+    column.resize(size + size / growth_divisor);
+    value.resize(size + size / growth_divisor);
+  }
+};
+
+// The result grows by 1/16 (its capacity is held with the hierarchy), a scratch by 1/4.
+RowBuffer row_buffer(int thread, AmgThreadScratch& own, CsrMatrix& result) {
+  return thread == 0 ? RowBuffer{result.column, result.value, 16} : RowBuffer{own.column, own.value, 4};
+}
+
+// After the barrier that follows the rows: the result sized (prefix sums of the counts in
+// row_start[r + 1]), then every thread but 0 copies its rows [first_row, end_row) into place.
+void place_thread_rows(int thread, int first_row, int end_row, const RowBuffer& buffer, CsrMatrix& result) {
+#pragma omp single
+  {
+    const std::size_t nonzeros = prefix_sum_counts(result.row_start);
+    result.column.resize(nonzeros);  // keeps thread 0's rows at the front
+    result.value.resize(nonzeros);
+  }  // implicit barrier
+  if (thread == 0 || first_row >= end_row) return;
+  const int destination = result.row_start[first_row];
+  const int count = result.row_start[end_row] - destination;
+  std::copy_n(buffer.column.data(), count, result.column.data() + destination);
+  std::copy_n(buffer.value.data(), count, result.value.data() + destination);
+}
+
 // product = left * right. Rows are split into one contiguous range per thread; each thread
 // computes its rows into its own buffer (one pass: no symbolic phase), then, after the row
 // lengths are known, copies them into place. Every entry is summed in the order of left's row
@@ -63,22 +99,20 @@ void multiply_sparse(const CsrMatrix& left, const CsrMatrix& right, int right_co
     const int threads = omp_get_num_threads();
     const int thread = omp_get_thread_num();
     AmgThreadScratch& own = scratch[static_cast<std::size_t>(thread)];
+    RowBuffer buffer = row_buffer(thread, own, product);
     const auto first_row = static_cast<int>(static_cast<long long>(rows) * thread / threads);
     const auto end_row = static_cast<int>(static_cast<long long>(rows) * (thread + 1) / threads);
     // position[c]: where column c sits in the buffer; before the current row's start: stale.
     own.position.assign(static_cast<std::size_t>(right_columns), -1);
-    std::size_t used = 0;  // entries of own.column / own.value in use (the vectors only grow)
+    std::size_t used = 0;  // entries of the buffer in use (its vectors only grow)
     for (int r = first_row; r < end_row; ++r) {
       // At most the sum of the right rows' lengths: make room first, then write by index.
       std::size_t bound = 0;
       for (int k = left.row_start[r]; k < left.row_start[r + 1]; ++k)
         bound += static_cast<std::size_t>(right.row_start[left.column[k] + 1] - right.row_start[left.column[k]]);
-      if (own.column.size() < used + bound) {
-        own.column.resize(2 * (used + bound));
-        own.value.resize(2 * (used + bound));
-      }
-      int* columns = own.column.data();
-      double* values = own.value.data();
+      buffer.ensure(used + bound);
+      int* columns = buffer.column.data();
+      double* values = buffer.value.data();
       int* position = own.position.data();
       const auto row_begin = static_cast<int>(used);
       auto next = row_begin;
@@ -102,18 +136,7 @@ void multiply_sparse(const CsrMatrix& left, const CsrMatrix& right, int right_co
       product.row_start[static_cast<std::size_t>(r) + 1] = next - row_begin;
     }
 #pragma omp barrier
-#pragma omp single
-    {
-      const std::size_t nonzeros = prefix_sum_counts(product.row_start);
-      product.column.resize(nonzeros);
-      product.value.resize(nonzeros);
-    }  // implicit barrier
-    if (first_row < end_row) {
-      const int destination = product.row_start[first_row];
-      const int count = product.row_start[end_row] - destination;
-      std::copy_n(own.column.data(), count, product.column.data() + destination);
-      std::copy_n(own.value.data(), count, product.value.data() + destination);
-    }
+    place_thread_rows(thread, first_row, end_row, buffer, product);
   }
 }
 
@@ -174,8 +197,9 @@ void AmgPreconditioner::setup(const CsrMatrix& matrix) {
     }
     current.spectral_bound = bound > 0.0 ? bound : 1.0;
     const std::size_t vector_size = static_cast<std::size_t>(rows);
-    current.rhs.resize(vector_size);
-    current.solution.resize(vector_size);
+    // The finest level's right-hand side and solution are the caller's (apply): none kept.
+    current.rhs.resize(level == 0 ? 0 : vector_size);
+    current.solution.resize(level == 0 ? 0 : vector_size);
     current.residual.resize(vector_size);
     current.direction.resize(vector_size);
     level_count_ = level + 1;
@@ -312,61 +336,66 @@ int aggregate_rows(const CsrMatrix& a, const std::vector<char>& strong, std::vec
   return aggregates;
 }
 
-// Step 3: the rows of P = (I - omega D_F^-1 A_F) P0 (or P0 when not smooth), at most (row
-// length + 1) entries each, at row r's offset row_start[r] + r of `strided`; the counts go
-// to prolongator.row_start[r + 1].
-void strided_prolongator_rows(const CsrMatrix& a, const std::vector<char>& strong, const std::vector<int>& aggregate,
-                              const std::vector<double>& filtered_diagonal, bool smooth, double omega,
-                              CsrMatrix& strided, CsrMatrix& prolongator) {
-  const int rows = a.rows;
-#pragma omp parallel for schedule(static) if (rows >= kParallelRows)
-  for (int r = 0; r < rows; ++r) {
-    const std::size_t base = static_cast<std::size_t>(a.row_start[r]) + static_cast<std::size_t>(r);
-    int* columns = strided.column.data() + base;
-    double* values = strided.value.data() + base;
-    int count = 0;
-    const int own = aggregate[r];
-    if (own >= 0) {
-      columns[0] = own;
-      values[0] = 1.0 - omega;  // (I - omega D_F^-1 A_F) on the diagonal entry, d_F / d_F = 1
-      count = 1;
-      if (smooth) {
-        const double factor = -omega / filtered_diagonal[r];
-        for (int k = a.row_start[r]; k < a.row_start[r + 1]; ++k) {
-          if (!strong[k]) continue;
-          const int target = aggregate[a.column[k]];
-          if (target < 0) continue;
-          const double term = factor * a.value[k];
-          int slot = 0;
-          while (slot < count && columns[slot] != target) ++slot;
-          if (slot == count) {
-            columns[count] = target;
-            values[count] = term;
-            ++count;
-          } else {
-            values[slot] += term;
-          }
+// Step 3: row r of P = (I - omega D_F^-1 A_F) P0 (or P0 when not smooth), at most (row length +
+// 1) entries, written at `columns` / `values`; returns its length.
+int prolongator_row(const CsrMatrix& a, const std::vector<char>& strong, const std::vector<int>& aggregate,
+                    const std::vector<double>& filtered_diagonal, bool smooth, double omega, int r, int* columns,
+                    double* values) {
+  int count = 0;
+  const int own = aggregate[r];
+  if (own >= 0) {
+    columns[0] = own;
+    values[0] = 1.0 - omega;  // (I - omega D_F^-1 A_F) on the diagonal entry, d_F / d_F = 1
+    count = 1;
+    if (smooth) {
+      const double factor = -omega / filtered_diagonal[r];
+      for (int k = a.row_start[r]; k < a.row_start[r + 1]; ++k) {
+        if (!strong[k]) continue;
+        const int target = aggregate[a.column[k]];
+        if (target < 0) continue;
+        const double term = factor * a.value[k];
+        int slot = 0;
+        while (slot < count && columns[slot] != target) ++slot;
+        if (slot == count) {
+          columns[count] = target;
+          values[count] = term;
+          ++count;
+        } else {
+          values[slot] += term;
         }
       }
     }
-    prolongator.row_start[static_cast<std::size_t>(r) + 1] = count;
   }
+  return count;
 }
 
-// Step 4: the strided rows compacted into the prolongator's compressed rows.
-void compact_prolongator(const CsrMatrix& a, const CsrMatrix& strided, CsrMatrix& prolongator) {
+// Steps 3-4: the prolongator's rows, one contiguous range of rows per thread computed into the
+// thread's scratch (as multiply_sparse: no padded copy of P is kept), then copied into place.
+void build_prolongator(const CsrMatrix& a, const std::vector<char>& strong, const std::vector<int>& aggregate,
+                       const std::vector<double>& filtered_diagonal, bool smooth, double omega, CsrMatrix& prolongator,
+                       std::vector<AmgThreadScratch>& scratch) {
   const int rows = a.rows;
-  const std::size_t prolongator_nonzeros = prefix_sum_counts(prolongator.row_start);
-  prolongator.column.resize(prolongator_nonzeros);
-  prolongator.value.resize(prolongator_nonzeros);
+  prolongator.rows = rows;
   prolongator.diagonal_first = false;
-#pragma omp parallel for schedule(static) if (rows >= kParallelRows)
-  for (int r = 0; r < rows; ++r) {
-    const std::size_t base = static_cast<std::size_t>(a.row_start[r]) + static_cast<std::size_t>(r);
-    const int begin = prolongator.row_start[r];
-    const int count = prolongator.row_start[r + 1] - begin;
-    std::copy_n(strided.column.data() + base, count, prolongator.column.data() + begin);
-    std::copy_n(strided.value.data() + base, count, prolongator.value.data() + begin);
+  prolongator.row_start.resize(static_cast<std::size_t>(rows) + 1);
+  prolongator.row_start[0] = 0;
+#pragma omp parallel if (rows >= kParallelRows)
+  {
+    const int threads = omp_get_num_threads();
+    const int thread = omp_get_thread_num();
+    RowBuffer buffer = row_buffer(thread, scratch[static_cast<std::size_t>(thread)], prolongator);
+    const auto first_row = static_cast<int>(static_cast<long long>(rows) * thread / threads);
+    const auto end_row = static_cast<int>(static_cast<long long>(rows) * (thread + 1) / threads);
+    std::size_t used = 0;
+    for (int r = first_row; r < end_row; ++r) {
+      buffer.ensure(used + static_cast<std::size_t>(a.row_start[r + 1] - a.row_start[r]) + 1);
+      const int count = prolongator_row(a, strong, aggregate, filtered_diagonal, smooth, omega, r,
+                                        buffer.column.data() + used, buffer.value.data() + used);
+      used += static_cast<std::size_t>(count);
+      prolongator.row_start[static_cast<std::size_t>(r) + 1] = count;
+    }
+#pragma omp barrier
+    place_thread_rows(thread, first_row, end_row, buffer, prolongator);
   }
 }
 
@@ -381,36 +410,26 @@ void AmgPreconditioner::build_level(std::size_t level) {
   // 1. Strength of connection, the filtered diagonal and its Gershgorin bound.
   const double theta = options_.strength_threshold * std::pow(0.5, static_cast<double>(level));
   std::vector<double>& filtered_diagonal = current.residual;  // scratch until apply
-  const double filtered_bound =
-      mark_strong_connections(a, current.inverse_diagonal, theta, current.strong, filtered_diagonal);
+  const double filtered_bound = mark_strong_connections(a, current.inverse_diagonal, theta, strong_, filtered_diagonal);
 
   // 2. Greedy aggregation.
-  const int coarse_rows = aggregate_rows(a, current.strong, current.aggregate, current.visit_order, current.visited);
+  const int coarse_rows = aggregate_rows(a, strong_, aggregate_, visit_order_, visited_);
   if (coarse_rows == 0 || coarse_rows >= rows) {  // nothing to coarsen: this level is the coarsest
     next.matrix.clear_rows(0);
     return;
   }
 
-  // 3-4. Prolongator P = (I - omega D_F^-1 A_F) P0 (or P0), built with at most (row length + 1)
-  // entries per row in a strided layout, then compacted.
+  // 3-4. Prolongator P = (I - omega D_F^-1 A_F) P0 (or P0), each thread's rows in its scratch,
+  // then copied into place.
   CsrMatrix& prolongator = current.prolongator;
   const bool smooth = options_.smooth_prolongator;
   const double omega = smooth ? (4.0 / 3.0) / std::max(filtered_bound, 1.0) : 0.0;
-  const std::size_t stride_total = a.nonzeros() + static_cast<std::size_t>(rows);
-  // Scratch: the AP product's arrays are rebuilt below, so they hold the strided rows here.
-  CsrMatrix& strided = current.product;
-  strided.column.resize(stride_total);
-  strided.value.resize(stride_total);
-  prolongator.rows = rows;
-  prolongator.row_start.resize(static_cast<std::size_t>(rows) + 1);
-  strided_prolongator_rows(a, current.strong, current.aggregate, filtered_diagonal, smooth, omega, strided,
-                           prolongator);
-  compact_prolongator(a, strided, prolongator);
+  build_prolongator(a, strong_, aggregate_, filtered_diagonal, smooth, omega, prolongator, thread_scratch_);
 
   // 5. R = P^T and the Galerkin product A_c = R (A P).
   transpose_sparse(prolongator, coarse_rows, current.restriction);
-  multiply_sparse(a, prolongator, coarse_rows, current.product, thread_scratch_);
-  multiply_sparse(current.restriction, current.product, coarse_rows, next.matrix, thread_scratch_);
+  multiply_sparse(a, prolongator, coarse_rows, product_, thread_scratch_);
+  multiply_sparse(current.restriction, product_, coarse_rows, next.matrix, thread_scratch_);
 }
 
 void AmgPreconditioner::factorise_coarsest() {
@@ -613,6 +632,31 @@ std::vector<AmgLevelInfo> AmgPreconditioner::levels() const {
     info.push_back({a.rows, a.nonzeros(), coarsest ? std::size_t{0} : levels_[level].prolongator.nonzeros()});
   }
   return info;
+}
+
+MemoryBreakdown AmgPreconditioner::memory_breakdown() const {
+  // Level 0 structure by structure (its matrix is the caller's), the coarser levels together.
+  MemoryBreakdown out;
+  std::size_t coarse = 0;
+  for (std::size_t level = 0; level < levels_.size(); ++level) {
+    const Level& l = levels_[level];
+    const std::size_t transfer = l.prolongator.held_bytes() + l.restriction.held_bytes();
+    const std::size_t vectors = held_bytes(l.inverse_diagonal, l.rhs, l.solution, l.residual, l.direction);
+    if (level > 0) {
+      coarse += l.matrix.held_bytes() + transfer + vectors;
+      continue;
+    }
+    out.emplace_back("level0.prolongator_restriction", transfer);
+    out.emplace_back("level0.vectors", vectors);
+  }
+  out.emplace_back("coarse_levels", coarse);
+  out.emplace_back("galerkin_scratch", product_.held_bytes());  // A P of the finest level, kept for the next setup
+  out.emplace_back("aggregation_scratch", held_bytes(aggregate_, strong_, visit_order_, visited_));
+  std::size_t scratch = 0;
+  for (const auto& own : thread_scratch_) scratch += held_bytes(own.column, own.position, own.value);
+  out.emplace_back("product_thread_scratch", scratch);
+  out.emplace_back("coarsest_factors", held_bytes(coarsest_factors_, coarsest_work_));
+  return out;
 }
 
 double AmgPreconditioner::operator_complexity() const {

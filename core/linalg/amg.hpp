@@ -82,8 +82,9 @@ struct AmgLevelInfo {
   std::size_t prolongator_nonzeros = 0;  // 0 on the coarsest level
 };
 
-// Per-thread scratch of the sparse matrix products in setup(): the rows a thread computes, and
-// the position of each column in the row being built.
+// Per-thread scratch of the sparse matrix products and the prolongator in setup(): the rows a
+// thread other than the first computes (the first writes its rows into the result directly),
+// and the position of each column in the row being built.
 struct AmgThreadScratch {
   std::vector<int> column, position;
   std::vector<double> value;
@@ -104,6 +105,8 @@ class AmgPreconditioner final : public Preconditioner {
   std::vector<AmgLevelInfo> levels() const;
   // Sum of the nonzeros of every level over those of the finest (dense coarsest: its rows^2).
   double operator_complexity() const;
+  // Per level ("level0.matrix", "level0.prolongator", ...) and the shared scratch.
+  MemoryBreakdown memory_breakdown() const override;
   const AmgOptions& options() const { return options_; }
 
  private:
@@ -111,13 +114,8 @@ class AmgPreconditioner final : public Preconditioner {
     CsrMatrix matrix;       // coarse levels only (level 0 uses *fine_matrix_)
     CsrMatrix prolongator;  // rows of this level x rows of the next
     CsrMatrix restriction;  // its transpose
-    CsrMatrix product;      // A P, scratch of the Galerkin product
     std::vector<double> inverse_diagonal;
-    double spectral_bound = 2.0;   // Gershgorin bound of rho(D^-1 A)
-    std::vector<int> aggregate;    // per row: aggregate (coarse row), -1 for none
-    std::vector<char> strong;      // per nonzero: strong connection
-    std::vector<int> visit_order;  // aggregation scratch: breadth-first order of the rows
-    std::vector<char> visited;
+    double spectral_bound = 2.0;  // Gershgorin bound of rho(D^-1 A)
     // V-cycle work vectors (mutable state of the const apply(): one apply at a time).
     mutable std::vector<double> rhs, solution, residual, direction;
   };
@@ -137,6 +135,13 @@ class AmgPreconditioner final : public Preconditioner {
   std::vector<double> coarsest_factors_;
   mutable std::vector<double> coarsest_work_;
   std::vector<AmgThreadScratch> thread_scratch_;
+  // Scratch of build_level(), one for every level (they are built one after the other; the
+  // finest sets the size): A P of the Galerkin product, and the aggregation's arrays.
+  CsrMatrix product_;             // A P
+  std::vector<int> aggregate_;    // per row: aggregate (coarse row), -1 for none
+  std::vector<char> strong_;      // per nonzero: strong connection
+  std::vector<int> visit_order_;  // breadth-first order of the rows
+  std::vector<char> visited_;
 };
 
 }  // namespace mps_lab

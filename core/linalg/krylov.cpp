@@ -403,19 +403,18 @@ struct BicgstabVectors {
   double* r0;  // shadow residual
   double* p;
   double* v;  // A y
-  double* s;
+  double* s;  // r - alpha v, in r's storage (r is not read again before r = s - omega t)
   double* t;  // A z
   double* y;  // M^-1 p
   double* z;  // M^-1 s
 };
 
 BicgstabVectors bicgstab_vectors(KrylovWorkspace& work, int rows) {
-  for (auto* vector :
-       {&work.residual, &work.shadow, &work.direction, &work.product, &work.s, &work.t, &work.y, &work.z}) {
+  for (auto* vector : {&work.residual, &work.shadow, &work.direction, &work.product, &work.t, &work.y, &work.z}) {
     ensure_size(*vector, rows);
   }
   return {work.residual.data(), work.shadow.data(), work.direction.data(), work.product.data(),
-          work.s.data(),        work.t.data(),      work.y.data(),         work.z.data()};
+          work.residual.data(), work.t.data(),      work.y.data(),         work.z.data()};
 }
 
 // t = A z, returns t.t and t.s (one pass).

@@ -20,6 +20,7 @@
 #include <cstddef>
 #include <vector>
 
+#include "core/base/memory_bytes.hpp"
 #include "core/linalg/sparse_matrix.hpp"
 
 namespace mps_lab {
@@ -31,6 +32,8 @@ class Preconditioner {
   virtual void setup(const CsrMatrix& matrix) = 0;
   // result = M^-1 residual (arrays of matrix.rows entries, not aliased).
   virtual void apply(const double* residual, double* result) const = 0;
+  // The heap it holds between setups (core/base/memory_bytes.hpp).
+  virtual MemoryBreakdown memory_breakdown() const { return {}; }
 };
 
 // M = diag(A); a zero diagonal entry is treated as 1 (as Eigen's DiagonalPreconditioner).
@@ -39,6 +42,7 @@ class JacobiPreconditioner final : public Preconditioner {
   void setup(const CsrMatrix& matrix) override;
   void apply(const double* residual, double* result) const override;
   const std::vector<double>& inverse_diagonal() const { return inverse_diagonal_; }
+  MemoryBreakdown memory_breakdown() const override { return {{"inverse_diagonal", held_bytes(inverse_diagonal_)}}; }
 
  private:
   std::vector<double> inverse_diagonal_;
@@ -55,6 +59,9 @@ class IncompleteLuPreconditioner final : public Preconditioner {
   explicit IncompleteLuPreconditioner(int block_count = 1) : block_count_(block_count < 1 ? 1 : block_count) {}
   void setup(const CsrMatrix& matrix) override;
   void apply(const double* residual, double* result) const override;
+  MemoryBreakdown memory_breakdown() const override {
+    return {{"factors", held_bytes(row_start_, column_, diagonal_, value_, inverse_pivot_, block_start_, position_)}};
+  }
 
  private:
   int block_count_;
@@ -82,8 +89,12 @@ struct KrylovResult {
 // Vectors of the iterations, kept between solves so that nothing is allocated once the sizes
 // have been seen.
 struct KrylovWorkspace {
-  std::vector<double> residual, direction, product, preconditioned, shadow, s, t, y, z;
+  std::vector<double> residual, direction, product, preconditioned, shadow, t, y, z;  // BiCGSTAB's s: in residual
   std::vector<double> partial;  // per-block partial sums of the reductions
+
+  std::size_t held_bytes() const {
+    return mps_lab::held_bytes(residual, direction, product, preconditioned, shadow, t, y, z, partial);
+  }
 };
 
 // Preconditioned conjugate gradients (Saad §9.2, algorithm 9.1) for symmetric positive

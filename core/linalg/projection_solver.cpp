@@ -64,6 +64,13 @@ void ProjectionSolver::prepare_preconditioner(const CsrMatrix& matrix, Precondit
   preconditioner_->setup(matrix);
 }
 
+MemoryBreakdown ProjectionSolver::memory_breakdown() const {
+  MemoryBreakdown out;
+  out.emplace_back("krylov_vectors", held_bytes(solution_) + workspace_.held_bytes());
+  if (preconditioner_) append_breakdown(out, preconditioner_name(kind_), preconditioner_->memory_breakdown());
+  return out;
+}
+
 ProjectionSolveStatistics ProjectionSolver::solve(const CsrMatrix& matrix, const std::vector<double>& rhs,
                                                   const std::vector<int>& particle_of,
                                                   const ProjectionSolverSettings& settings,

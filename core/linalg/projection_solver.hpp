@@ -93,6 +93,9 @@ class ProjectionSolver {
                                   const std::vector<int>& particle_of, const ProjectionSolverSettings& settings,
                                   std::vector<double>& pressure);
 
+  // The heap it holds between solves: the preconditioner's, the solution and the Krylov vectors.
+  MemoryBreakdown memory_breakdown() const;
+
  private:
   void prepare_preconditioner(const CsrMatrix& matrix, PreconditionerKind kind);
 

@@ -1,6 +1,7 @@
 #include "core/linalg/sparse_matrix.hpp"
 
 #include <algorithm>
+#include <stdexcept>
 
 #include "core/base/parallel.hpp"
 
@@ -44,6 +45,49 @@ void CsrAssembler::finish(CsrMatrix& matrix, bool diagonal_first) {
               value_.begin() + static_cast<std::ptrdiff_t>(from + length),
               matrix.value.begin() + static_cast<std::ptrdiff_t>(to));
   }
+}
+
+void CsrInPlaceAssembler::start(CsrMatrix& matrix, int rows) {
+  matrix_ = &matrix;
+  rows_ = rows;
+  matrix.rows = rows;
+  matrix.row_start.assign(static_cast<std::size_t>(rows) + 1, 0);
+  length_.resize(static_cast<std::size_t>(rows));
+}
+
+void CsrInPlaceAssembler::place(CsrMatrix& matrix) {
+  for (int row = 0; row < rows_; ++row) {
+    matrix.row_start[static_cast<std::size_t>(row) + 1] += matrix.row_start[static_cast<std::size_t>(row)];
+  }
+  const auto entries = static_cast<std::size_t>(matrix.row_start[static_cast<std::size_t>(rows_)]);
+  matrix.column.resize(entries);
+  matrix.value.resize(entries);
+}
+
+void CsrInPlaceAssembler::finish(CsrMatrix& matrix, bool diagonal_first) {
+  matrix.diagonal_first = diagonal_first;
+  int first_short = rows_;
+  for (int row = rows_ - 1; row >= 0; --row) {
+    const auto r = static_cast<std::size_t>(row);
+    const int counted = matrix.row_start[r + 1] - matrix.row_start[r];
+    if (length_[r] > counted) throw std::logic_error("CsrInPlaceAssembler: a row has more entries than its count");
+    if (length_[r] < counted) first_short = row;
+  }
+  if (first_short == rows_) return;  // every row as counted: nothing to move
+  // Close up the gaps: every row moves towards the front (destination <= source), in order.
+  int to = matrix.row_start[static_cast<std::size_t>(first_short)];
+  for (int row = first_short; row < rows_; ++row) {
+    const auto r = static_cast<std::size_t>(row);
+    const int from = matrix.row_start[r];
+    const int length = length_[r];
+    std::copy_n(matrix.column.begin() + from, length, matrix.column.begin() + to);
+    std::copy_n(matrix.value.begin() + from, length, matrix.value.begin() + to);
+    matrix.row_start[r] = to;
+    to += length;
+  }
+  matrix.row_start[static_cast<std::size_t>(rows_)] = to;
+  matrix.column.resize(static_cast<std::size_t>(to));
+  matrix.value.resize(static_cast<std::size_t>(to));
 }
 
 // The blocked sum of core/base/parallel.hpp (fixed blocks of kDeterministicBlock entries).

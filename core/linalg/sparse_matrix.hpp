@@ -21,6 +21,9 @@ struct CsrMatrix {
   bool diagonal_first = false;  // every row stores its diagonal entry first
 
   std::size_t nonzeros() const { return column.size(); }
+  std::size_t held_bytes() const {  // capacity of the three arrays
+    return row_start.capacity() * sizeof(int) + column.capacity() * sizeof(int) + value.capacity() * sizeof(double);
+  }
   void clear_rows(int row_count) {  // keeps capacity
     rows = row_count;
     row_start.assign(static_cast<std::size_t>(row_count) + 1, 0);
@@ -80,11 +83,76 @@ class CsrAssembler {
   }
   RowWriter row(int row) { return RowWriter(*this, row); }
   void finish(CsrMatrix& matrix, bool diagonal_first);
+  std::size_t held_bytes() const {  // the padded slots, bytes (capacities)
+    return (slot_start_.capacity() + length_.capacity() + column_.capacity()) * sizeof(int) +
+           value_.capacity() * sizeof(double);
+  }
 
  private:
   int rows_ = 0;
   std::vector<int> slot_start_, length_, column_;
   std::vector<double> value_;
+};
+
+// Assembles a CsrMatrix row by row, rows in parallel, straight into the matrix's own arrays
+// when the caller can count every row's entries beforehand (an upper bound that is exact but
+// for rare entries the row drops: isph counts the unknowns among a particle's neighbours, and
+// drops a pair only when its coefficient is exactly 0, two coincident particles). No padded
+// copy of the matrix is kept beside it (CsrAssembler's slots: 12 bytes per bound entry).
+//   assembler.start(matrix, rows);                  // matrix.row_start[r + 1] = 0
+//   #pragma omp parallel for
+//   for (int row ...) assembler.count(row, length); // the bound of row `row`
+//   assembler.place(matrix);                        // prefix sums; sizes column and value
+//   #pragma omp parallel for
+//   for (int row ...) { auto writer = assembler.row(row); writer.add(column, value); ... writer.close(); }
+//   assembler.finish(matrix, /*diagonal_first=*/true);
+// A row longer than its count makes finish() throw std::logic_error (its entries past the
+// count were not written; close() only records the length, as it runs inside the parallel
+// loop, where an exception cannot leave); rows shorter than their count are closed up by finish() (sequentially, only
+// in a step that has one). The entries and their order are those the writer received, as with CsrAssembler: the same
+// matrix, bit for bit.
+class CsrInPlaceAssembler {
+ public:
+  class RowWriter {
+   public:
+    RowWriter(CsrInPlaceAssembler& owner, int row)
+        : owner_(owner),
+          row_(row),
+          begin_(owner.matrix_->row_start[static_cast<std::size_t>(row)]),
+          end_(begin_),
+          limit_(owner.matrix_->row_start[static_cast<std::size_t>(row) + 1]),
+          column_(owner.matrix_->column.data()),
+          value_(owner.matrix_->value.data()) {}
+    void add(int column, double value) {
+      if (end_ < limit_) {  // past the count: reported by finish()
+        column_[end_] = column;
+        value_[end_] = value;
+      }
+      ++end_;
+    }
+    int size() const { return end_ - begin_; }
+    double& value(int entry) { return value_[begin_ + entry]; }  // entry < size()
+    void close() { owner_.length_[static_cast<std::size_t>(row_)] = end_ - begin_; }
+
+   private:
+    CsrInPlaceAssembler& owner_;
+    int row_;
+    int begin_, end_, limit_;
+    int* column_;
+    double* value_;
+  };
+
+  void start(CsrMatrix& matrix, int rows);
+  void count(int row, int length) { matrix_->row_start[static_cast<std::size_t>(row) + 1] = length; }
+  void place(CsrMatrix& matrix);
+  RowWriter row(int row) { return RowWriter(*this, row); }
+  void finish(CsrMatrix& matrix, bool diagonal_first);
+  std::size_t held_bytes() const { return length_.capacity() * sizeof(int); }
+
+ private:
+  CsrMatrix* matrix_ = nullptr;
+  int rows_ = 0;
+  std::vector<int> length_;  // entries written per row
 };
 
 // Deterministic parallel dot product: the sum is taken over fixed blocks of the index range

@@ -17,6 +17,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "core/base/memory_bytes.hpp"
 #include "core/base/parameters.hpp"
 #include "core/base/particles.hpp"
 #include "core/linalg/projection_solver.hpp"
@@ -94,6 +95,10 @@ class Method {
   // the obstacles' wetted surface (SurfacePressure: the pressure's part is not the exact opposite
   // of the fluid's wall terms; docs/walls.md, "Loads on obstacles").
   virtual ObstacleLoadKind obstacle_load_kind() const { return ObstacleLoadKind::PairReaction; }
+  // The heap the method holds between steps, by structure (core/base/memory_bytes.hpp: the
+  // capacity of its big containers): `mps_lab bench` reports it beside the resident memory.
+  // Empty by default (the bench then reports the particles and the total only).
+  virtual MemoryBreakdown memory_breakdown() const { return {}; }
 };
 
 struct MethodSetup {

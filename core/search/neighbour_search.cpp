@@ -8,7 +8,15 @@
 
 #include <omp.h>
 
+#include "core/base/memory_bytes.hpp"
+
 namespace mps_lab {
+
+std::size_t CellList::held_bytes() const {
+  std::size_t bytes = mps_lab::held_bytes(cell_start_, sorted_, particle_cell_, sorted_positions_, fill_);
+  for (const auto& list : thread_lists_) bytes += mps_lab::held_bytes(list);
+  return bytes;
+}
 
 std::uint32_t NeighbourList::max_count() const {
   std::uint32_t largest = 0;
@@ -114,7 +122,9 @@ void CellList::find_neighbours(const std::vector<Vec2>& positions, const std::ve
 
   // One distance pass: thread t lists the neighbours of its block [begin_t, end_t) of
   // particles into thread_lists_[t] and the counts into offsets; after a prefix sum each
-  // block is copied into place. The lists do not depend on the number of threads.
+  // block is copied into place. Thread 0's block begins at entry 0, so it lists straight into
+  // out.indices (no copy of it is held: docs/performance.md, "Memory"). The lists do not
+  // depend on the number of threads.
 #pragma omp parallel
   {
     const auto threads = static_cast<std::size_t>(omp_get_num_threads());
@@ -123,7 +133,7 @@ void CellList::find_neighbours(const std::vector<Vec2>& positions, const std::ve
     if (thread_lists_.size() < threads) thread_lists_.resize(threads);
     const std::size_t begin = n * thread / threads;
     const std::size_t end = n * (thread + 1) / threads;
-    std::vector<std::uint32_t>& list = thread_lists_[thread];
+    std::vector<std::uint32_t>& list = thread == 0 ? out.indices : thread_lists_[thread];
     list.clear();
     for (std::size_t i = begin; i < end; ++i) {
       const std::size_t before = list.size();
@@ -134,9 +144,9 @@ void CellList::find_neighbours(const std::vector<Vec2>& positions, const std::ve
 #pragma omp single
     {
       for (std::size_t i = 0; i < n; ++i) out.offsets[i + 1] += out.offsets[i];
-      out.indices.resize(out.offsets[n]);
+      out.indices.resize(out.offsets[n]);  // keeps thread 0's lists at the front
     }
-    std::copy(list.begin(), list.end(), out.indices.begin() + out.offsets[begin]);
+    if (thread != 0) std::copy(list.begin(), list.end(), out.indices.begin() + out.offsets[begin]);
   }
 }
 

@@ -46,6 +46,8 @@ class CellList {
   double cell_size() const { return cell_size_; }
   int cells_x() const { return cells_x_; }
   int cells_y() const { return cells_y_; }
+  // Heap held between searches, bytes (capacities; `mps_lab bench`'s memory breakdown).
+  std::size_t held_bytes() const;
 
  private:
   std::int64_t cell_of(const Vec2& x) const;

@@ -104,7 +104,6 @@ class IsphMethod final : public Method {
     settings_.preconditioner =
         choose_preconditioner(preconditioner_choice_, particles.count(ParticleType::Fluid), amg_min_fluid_particles_);
     acceleration_.assign(n, Vec2::Zero());
-    predicted_velocity_.assign(n, Vec2::Zero());
     source_.assign(n, 0.0);
     WallContext context{particles, &neighbours_, 0.0, scene_};
     search(particles, context);
@@ -197,6 +196,19 @@ class IsphMethod final : public Method {
     walls_.permute_state(order);
   }
 
+  // `mps_lab bench`'s memory breakdown (docs/performance.md, "Memory"): the search, the
+  // per-particle arrays of the step and the pressure solve.
+  MemoryBreakdown memory_breakdown() const override {
+    MemoryBreakdown out = {
+        {"neighbour_list", held_bytes(neighbours_.offsets, neighbours_.indices)},
+        {"cell_list", cells_.held_bytes()},
+        {"wall_samples", held_bytes(samples_.offsets, samples_.samples)},
+        {"step_arrays", held_bytes(acceleration_, reaction_, renormalisation_, start_position_, start_velocity_,
+                                   source_, position_divergence_, rest_density_field_)}};
+    append_breakdown(out, "ppe", ppe_.memory_breakdown());
+    return out;
+  }
+
  private:
   // The predictor (Shao & Lo 2003: u* = u^n + dt (g + nu lap u^n)), r* = r^n + dt u*, with the
   // wall hooks after the velocity and the position. Neighbours: the list of the last search
@@ -257,20 +269,22 @@ class IsphMethod final : public Method {
       // grad p = rho (g - a_w) inside the wall) then removes (u_w = a_w = 0 for a fixed wall, a
       // moving obstacle's law otherwise). Hence fluid at rest has div u* = 0 next to a wall as in
       // the interior, and only motion relative to the wall is a source (consistent with the wall
-      // rows of the PPE).
+      // rows of the PPE). They live in acceleration_'s storage: the predictor's acceleration is
+      // spent (u* is in particles.velocity) and correct() rewrites every entry before reading one.
+      std::vector<Vec2>& predicted_velocity = acceleration_;  // m/s here
 #pragma omp parallel for schedule(static)
       for (std::ptrdiff_t i = 0; i < count; ++i) {
-        predicted_velocity_[i] = particles.type[i] == ParticleType::Fluid ? particles.velocity[i]
-                                 : particles.type[i] == ParticleType::Wall
-                                     ? Vec2(particles.prescribed_wall_velocity(i) +
-                                            dt * (gravity - particles.prescribed_wall_acceleration(i)))
-                                     : Vec2::Zero();
+        predicted_velocity[i] = particles.type[i] == ParticleType::Fluid ? particles.velocity[i]
+                                : particles.type[i] == ParticleType::Wall
+                                    ? Vec2(particles.prescribed_wall_velocity(i) +
+                                           dt * (gravity - particles.prescribed_wall_acceleration(i)))
+                                    : Vec2::Zero();
       }
       // Wall samples likewise: u*_w = dt g + M_w (u*_s - dt g): a fixed wall point has dt g, a
       // mirror image the mirrored motion of its source relative to that (docs/methods/isph.md,
       // "Wall boundary models": with u*_w = M_w u*_s the hydrostatic head is counted twice).
-      velocity_divergence(particles, neighbours_, samples_, kernel_, mass_, rho, predicted_velocity_,
-                          Vec2(dt * gravity), divergence);
+      velocity_divergence(particles, neighbours_, samples_, kernel_, mass_, rho, predicted_velocity, Vec2(dt * gravity),
+                          divergence);
       compute_source(particles, density, divergence, dt);
     }
   }
@@ -449,7 +463,6 @@ class IsphMethod final : public Method {
   bool computes_reactions_ = false;
   std::vector<Vec2> reaction_;                    // the fluid's force on each wall particle in this step, N/m
   std::vector<Eigen::Matrix2d> renormalisation_;  // L_i of the step's pressure gradient
-  std::vector<Vec2> predicted_velocity_;          // m/s
   std::vector<Vec2> start_position_;              // r^n (trapezoidal update only)
   std::vector<Vec2> start_velocity_;              // u^n (trapezoidal update only)
   std::vector<double> source_;                    // 1/s^2

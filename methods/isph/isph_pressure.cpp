@@ -10,9 +10,40 @@ namespace mps_lab::isph {
 
 Eigen::SparseMatrix<double, Eigen::RowMajor> PressurePoissonSolver::matrix() const { return to_eigen(matrix_); }
 
+MemoryBreakdown PressurePoissonSolver::memory_breakdown() const {
+  MemoryBreakdown out = {{"matrix", matrix_.held_bytes()},
+                         {"assembly_slots", assembler_.held_bytes()},
+                         {"unknowns", held_bytes(row_of_, particle_of_, grounded_, rhs_)}};
+  append_breakdown(out, "solver", solver_.memory_breakdown());
+  return out;
+}
+
+// The entries row_of_[i]'s row can have: the diagonal and one per neighbour (a wall row: per
+// fluid neighbour) or wall sample that is an unknown, as fluid_row and wall_row visit them (they
+// drop a pair whose coefficient is exactly 0: coincident particles; the assembler closes the gap).
+int PressurePoissonSolver::row_count(const RowInputs& in, std::size_t i) const {
+  const ParticleSet& particles = in.particles;
+  int count = 1;
+  if (particles.type[i] != ParticleType::Fluid) {
+    for_each_neighbour(in.neighbours, i, [&](std::uint32_t f) {
+      count += particles.type[f] == ParticleType::Fluid && row_of_[f] >= 0 ? 1 : 0;
+    });
+    return count;
+  }
+  for_each_neighbour(in.neighbours, i, [&](std::uint32_t j) {
+    count += particles.type[j] != ParticleType::Ghost && row_of_[j] >= 0 ? 1 : 0;
+  });
+  for_each_neighbour(in.samples, i, [&](const WallSample& wall) {
+    const std::uint32_t s = wall.source;
+    count += particles.type[s] != ParticleType::Ghost && s != i && row_of_[s] >= 0 ? 1 : 0;
+  });
+  return count;
+}
+
 // Fluid row `row` (particle i): Cummins & Rudman (1999) / Shao & Lo (2003), with the wall
 // samples' terms; sets the diagonal and b_i. Returns whether it touches a Dirichlet particle.
-bool PressurePoissonSolver::fluid_row(const RowInputs& in, int row, std::size_t i, CsrAssembler::RowWriter& writer) {
+bool PressurePoissonSolver::fluid_row(const RowInputs& in, int row, std::size_t i,
+                                      CsrInPlaceAssembler::RowWriter& writer) {
   const ParticleSet& particles = in.particles;
   const SphKernel& kernel = in.kernel;
   const std::vector<double>& density = in.density;
@@ -69,7 +100,8 @@ bool PressurePoissonSolver::fluid_row(const RowInputs& in, int row, std::size_t 
 // Wall row `row` (wall particle i): the kernel-weighted average of the fluid pressure around
 // it plus the hydrostatic head; sets the diagonal and b_w. Returns whether it touches a
 // Dirichlet particle.
-bool PressurePoissonSolver::wall_row(const RowInputs& in, int row, std::size_t i, CsrAssembler::RowWriter& writer) {
+bool PressurePoissonSolver::wall_row(const RowInputs& in, int row, std::size_t i,
+                                     CsrInPlaceAssembler::RowWriter& writer) {
   const ParticleSet& particles = in.particles;
   const SphKernel& kernel = in.kernel;
   const std::vector<double>& density = in.density;
@@ -107,14 +139,14 @@ void PressurePoissonSolver::assemble_rows(const ParticleSet& particles, const Ne
   const double fluid_scale = settings.rest_density * settings.spacing * settings.spacing;  // kg/m: rows in Pa
   rhs_.resize(static_cast<std::size_t>(unknowns));
   grounded_.assign(static_cast<std::size_t>(unknowns), 0);
-  const bool with_samples = samples.has_samples();
   const RowInputs in{particles, neighbours, samples, kernel, density, source, settings, fluid_scale};
-  assembler_.start(unknowns, [&](int row) {
-    const auto i = static_cast<std::size_t>(particle_of_[static_cast<std::size_t>(row)]);
-    const std::uint32_t sample_count =
-        with_samples && particles.type[i] == ParticleType::Fluid ? samples.end(i) - samples.begin(i) : 0;
-    return static_cast<int>(1 + neighbours.count(i) + sample_count);
-  });
+  // The entries of every row, counted (in parallel), then placed: the rows' storage in matrix_.
+  assembler_.start(matrix_, unknowns);
+#pragma omp parallel for schedule(static)
+  for (int row = 0; row < unknowns; ++row) {
+    assembler_.count(row, row_count(in, static_cast<std::size_t>(particle_of_[static_cast<std::size_t>(row)])));
+  }
+  assembler_.place(matrix_);
   // Rows in parallel; every row stores its diagonal first.
 #pragma omp parallel for schedule(static)
   for (int row = 0; row < unknowns; ++row) {

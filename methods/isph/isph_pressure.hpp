@@ -29,8 +29,10 @@
 // non-symmetric: BiCGSTAB (core/linalg/krylov.hpp) through the projection solver
 // (core/linalg/projection_solver.hpp), preconditioned by jacobi, incomplete_factorisation
 // (ILU(0)) or amg.
-// The matrix is assembled straight into compressed rows (core/linalg/sparse_matrix.hpp), rows in
-// parallel, into storage kept from step to step.
+// The matrix is assembled straight into compressed rows (core/linalg/sparse_matrix.hpp,
+// CsrInPlaceAssembler), rows in parallel, into storage kept from step to step: a first pass
+// counts each row's entries (its unknowns among the neighbours and wall samples), the second
+// writes them in place.
 #include <utility>
 #include <vector>
 
@@ -103,6 +105,10 @@ class PressurePoissonSolver {
   const std::vector<int>& row_of_particle() const { return row_of_; }  // -1: not an unknown
   const std::vector<int>& particle_of_row() const { return particle_of_; }
 
+  // The heap it holds between solves (core/base/memory_bytes.hpp): the matrix, the assembly's
+  // storage, the maps between particles and unknowns, the solver's vectors and preconditioner.
+  MemoryBreakdown memory_breakdown() const;
+
  private:
   // What every row of the assembly reads.
   struct RowInputs {
@@ -115,17 +121,18 @@ class PressurePoissonSolver {
     const PressureSolveSettings& settings;
     double fluid_scale;  // rho0 l0^2, kg/m: fluid rows in Pa
   };
-  bool fluid_row(const RowInputs& in, int row, std::size_t i, CsrAssembler::RowWriter& writer);
-  bool wall_row(const RowInputs& in, int row, std::size_t i, CsrAssembler::RowWriter& writer);
+  int row_count(const RowInputs& in, std::size_t i) const;
+  bool fluid_row(const RowInputs& in, int row, std::size_t i, CsrInPlaceAssembler::RowWriter& writer);
+  bool wall_row(const RowInputs& in, int row, std::size_t i, CsrInPlaceAssembler::RowWriter& writer);
   void assemble_rows(const ParticleSet& particles, const NeighbourList& neighbours, const WallSampleList& samples,
                      const SphKernel& kernel, const std::vector<double>& density, const std::vector<double>& source,
                      const PressureSolveSettings& settings);
 
   std::vector<int> row_of_;
   std::vector<int> particle_of_;
-  std::size_t fluid_rows_ = 0;  // rows [0, fluid_rows_) are fluid, the rest walls
-  std::vector<char> grounded_;  // per unknown: touches a Dirichlet particle
-  CsrAssembler assembler_;
+  std::size_t fluid_rows_ = 0;     // rows [0, fluid_rows_) are fluid, the rest walls
+  std::vector<char> grounded_;     // per unknown: touches a Dirichlet particle
+  CsrInPlaceAssembler assembler_;  // rows straight into matrix_ (no padded copy beside it)
   CsrMatrix matrix_;
   std::vector<double> rhs_;  // Pa
   ProjectionSolver solver_;

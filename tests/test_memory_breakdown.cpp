@@ -1,0 +1,119 @@
+// What the pressure solve of isph holds (docs/performance.md, "Memory"): the in-place assembly
+// of compressed rows (core/linalg/sparse_matrix.hpp) builds the same matrix as the padded-slot
+// assembler without keeping the slots, and Method::memory_breakdown accounts for the matrix and
+// the Krylov vectors as their sizes say.
+#include <string>
+
+#include <catch2/catch.hpp>
+
+#include "core/linalg/sparse_matrix.hpp"
+#include "core/run/driver.hpp"
+#include "support.hpp"
+
+using namespace mps_lab;
+using namespace mps_lab::testing;
+
+namespace {
+
+// Row r of a test matrix: its diagonal, then up to 6 off-diagonal entries (columns and values
+// from a fixed formula); rows 8 and 31 drop their last entry (as isph drops a pair whose
+// coefficient is exactly 0), so they are shorter than their count.
+constexpr int kRows = 50;
+int counted_length(int row) { return 1 + row % 7; }
+template <typename Writer>
+void write_row(int row, Writer& writer) {
+  writer.add(row, 4.0 + row);
+  const int written = counted_length(row) - (row == 8 || row == 31 ? 1 : 0);
+  for (int k = 1; k < written; ++k) writer.add((row + 3 * k) % kRows, -1.0 / (row + k));
+  writer.close();
+}
+
+std::size_t breakdown_entry(const MemoryBreakdown& breakdown, const std::string& name) {
+  for (const auto& [key, bytes] : breakdown)
+    if (key == name) return bytes;
+  FAIL("no entry " << name << " in the memory breakdown");
+  return 0;
+}
+
+}  // namespace
+
+TEST_CASE("in-place row assembly gives the padded assembler's matrix bit for bit", "[linalg][pressure]") {
+  CsrAssembler padded;
+  CsrMatrix expected;
+  padded.start(kRows, [](int row) { return counted_length(row); });
+#pragma omp parallel for schedule(static)
+  for (int row = 0; row < kRows; ++row) {
+    auto writer = padded.row(row);
+    write_row(row, writer);
+  }
+  padded.finish(expected, true);
+
+  CsrInPlaceAssembler in_place;
+  CsrMatrix matrix;
+  for (int repeat = 0; repeat < 2; ++repeat) {  // the second time into the kept storage
+    in_place.start(matrix, kRows);
+#pragma omp parallel for schedule(static)
+    for (int row = 0; row < kRows; ++row) in_place.count(row, counted_length(row));
+    in_place.place(matrix);
+#pragma omp parallel for schedule(static)
+    for (int row = 0; row < kRows; ++row) {
+      auto writer = in_place.row(row);
+      write_row(row, writer);
+    }
+    in_place.finish(matrix, true);
+    CHECK(matrix.rows == expected.rows);
+    CHECK(matrix.diagonal_first);
+    CHECK(matrix.row_start == expected.row_start);
+    CHECK(matrix.column == expected.column);
+    CHECK(matrix.value == expected.value);  // exact: the same doubles copied
+  }
+  // The two dropped entries: the counts' sum less 2.
+  int counted = 0;
+  for (int row = 0; row < kRows; ++row) counted += counted_length(row);
+  CHECK(matrix.nonzeros() == static_cast<std::size_t>(counted - 2));
+  // A row with more entries than its count is an error (at finish: close() runs inside the
+  // parallel loop), not an overwrite of the next row.
+  in_place.start(matrix, 2);
+  in_place.count(0, 1);
+  in_place.count(1, 1);
+  in_place.place(matrix);
+  auto second = in_place.row(1);
+  second.add(0, 3.0);
+  second.close();
+  auto first = in_place.row(0);
+  first.add(0, 1.0);
+  first.add(1, 2.0);  // past row 0's count
+  first.close();
+  CHECK(matrix.column[1] == 0);  // row 1's entry, not row 0's second
+  CHECK(matrix.value[1] == 3.0);
+  CHECK_THROWS_AS(in_place.finish(matrix, true), std::logic_error);
+}
+
+#ifdef MPS_LAB_WITH_ISPH
+TEST_CASE("isph memory breakdown: the matrix and the Krylov vectors as their sizes say - no padded rows",
+          "[isph][profile]") {
+  // amg as at large sizes (the spec's dam break has fewer fluid particles than "auto"'s 2000).
+  const Scene scene = load("dambreak.json", {"methods.isph.preconditioner=amg"});
+  Simulation simulation(scene, *registries().methods.find("isph"));
+  for (int step = 0; step < 3; ++step) simulation.advance();
+  const MemoryBreakdown breakdown = simulation.method().memory_breakdown();
+  const std::size_t particles = simulation.particles().size();
+  // extra[3] and extra[4]: ppe_fluid_unknowns and ppe_wall_unknowns (isph's series_columns).
+  const std::size_t unknowns =
+      static_cast<std::size_t>(simulation.last_report().extra[3] + simulation.last_report().extra[4]);
+  REQUIRE(unknowns > 0);
+  // The matrix: at least 4 bytes per row start and 12 per entry (capacity >= size); every row
+  // has its diagonal and, inside the fluid, about 20 neighbours (2.4 l0 support on the lattice).
+  const std::size_t matrix = breakdown_entry(breakdown, "ppe.matrix");
+  CHECK(matrix >= 4 * (unknowns + 1) + 12 * unknowns);
+  // BiCGSTAB keeps 7 vectors of the unknowns and the solution one (8 x 8 bytes per unknown at
+  // least; the reductions' partial sums add one double per 1024 rows).
+  CHECK(breakdown_entry(breakdown, "ppe.solver.krylov_vectors") >= 64 * unknowns);
+  // The in-place assembly keeps 4 bytes per row (the written lengths), never the padded slots
+  // (12 bytes per entry, at least 13 per row): at most 4 bytes per particle.
+  CHECK(breakdown_entry(breakdown, "ppe.assembly_slots") <= 4 * particles);
+  CHECK(breakdown_entry(breakdown, "ppe.solver.amg.level0.vectors") > 0);
+  // The neighbour list: 4 bytes per particle's offset and per neighbour.
+  CHECK(breakdown_entry(breakdown, "neighbour_list") >= 4 * (particles + 1));
+}
+#endif
