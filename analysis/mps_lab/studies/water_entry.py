@@ -233,7 +233,7 @@ def plot(folders: dict, window: float, path: str) -> None:
         axis.set_title(method)
         axis.set_xlabel("d / D")
         axis.legend(fontsize=7)
-    axes[0][0].set_ylabel(f"C_s = (F_y − ρgA_seg) / (½ρV²D), moving mean {window:g} D/V")
+    axes[0][0].set_ylabel(f"C_s, moving mean over {window:g} D/V")
     figure.tight_layout()
     figure.savefig(path, dpi=110)
     plt.close(figure)
