@@ -443,8 +443,10 @@ TEST_CASE("contact: a disc dropped on a box body on the bed - the stack comes to
 TEST_CASE("two-way coupling: a half-density box floats at its draft in dfsph and a denser one sinks",
           "[bodies][coupling]") {
   // scenes/floating_box.json starts the box at its equilibrium draft rho_b / rho_w h = 0.0625 m,
-  // centre at the surface y = 0.3 m. Afloat, the mean centre over 0.5-1.5 s stays within 0.02 m
-  // of 0.3 (0.8 l0: a free surface of particles is resolved to about l0/2; measured 0.288). With
+  // centre at the fluid block's top y = 0.3 m; the water's level at rest is 0.2908 m (docs/bodies.md:
+  // (W - l0)(eta - l0/2) = N l0^2 + B d). Afloat, the mean centre over 0.5-1.5 s stays within 0.02 m
+  // of 0.3 (measured 0.288: 3 mm below the rest position; tests/test_floating_bodies.cpp asserts the
+  // draft against the rest level). With
   // no fluid load the box would fall to the bed. A box of 4x the density (net weight 3/4 of its
   // weight) sinks by more than its own height (0.125 m) in 1.5 s: its centre ends below 0.15 m
   // (measured 0.098 m: it is still settling onto the bed through the water under it).

@@ -6,6 +6,7 @@
 // hydrostatic part, and the parameter's bad input.
 #include <catch2/catch.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 #include <string>
@@ -155,6 +156,28 @@ TEST_CASE("DFSPH extrapolated wall pressure: a wall sample at rest extrapolates 
   CHECK(acceleration[1].x() == Approx(expected.x()).margin(1e-12));
   CHECK(acceleration[1].y() == Approx(expected.y()).epsilon(1e-12));
   CHECK(acceleration[0] == Vec2::Zero());
+}
+
+TEST_CASE("DFSPH extrapolated wall pressure: a moving wall particle's acceleration enters the hydrostatic term",
+          "[dfsph][operators][unit]") {
+  // [AHA12] eq. (27) with the wall's acceleration: p_b = sum_f [p_f + rho_f (g - a_b).(x_b - x_f)] W_bf
+  // / sum_f W_bf. Bed particle b at (0, 0) under fluid row 1 ((-1, 1), (0, 1), (1, 1) l0), every
+  // neighbour l0 above b: (g - a_b).(x_b - x_f) = (|g| + a_y) l0 - 0 for a_b = (a_x, a_y)
+  // (x_b - x_f has x parts -+l0 that cancel between (-1, 1) and (1, 1) with equal weights, and 0
+  // for (0, 1)). a_b = (3, g/2): s_b,hyd = rho_f 1.5 |g| l0 / rho0^2, 1.5 times the wall at rest;
+  // a_b = (0, -2 g) (falling faster than gravity): negative, clamped at 0.
+  const double rho_f = 1010.0;
+  for (const double a_y : {0.5 * kG, -2.0 * kG}) {
+    Bed bed({{0, 0}}, {{-1, 1}, {0, 1}, {1, 1}}, rho_f);
+    bed.particles.wall_velocity.assign(bed.particles.size(), Vec2::Zero());
+    bed.particles.wall_acceleration.assign(bed.particles.size(), Vec2::Zero());
+    bed.particles.wall_acceleration[0] = Vec2(3.0, a_y);
+    bed.extrapolate();
+    REQUIRE(bed.stencil.boundary.size() == 1);
+    const double expected = std::max(0.0, rho_f * (kG + a_y) * kL0) / (kRho0 * kRho0);
+    INFO("a_y = " << a_y);
+    CHECK(bed.stencil.hydrostatic[0] == Approx(expected).epsilon(1e-12).margin(1e-18));
+  }
 }
 
 TEST_CASE("DFSPH extrapolated wall pressure: one density iteration applies the symmetric wall term",

@@ -496,7 +496,9 @@ void compute_wall_pressure_stencil(const ParticleSet& particles, const SphSystem
     if (!is_boundary(particles, system, b)) continue;
     const std::size_t first = stencil.fluid.size();
     double weight_sum = 0.0;  // sum_f W_bf, 1/m^2
-    double offset = 0.0;      // sum_f rho_f g.(x_b - x_f) W_bf, Pa/m^2
+    double offset = 0.0;      // sum_f rho_f (g - a_b).(x_b - x_f) W_bf, Pa/m^2
+    // a_b: the wall particle's acceleration (a moving obstacle, core/walls/moving_walls.hpp; 0 at rest)
+    const Vec2 body_force = gravity - particles.prescribed_wall_acceleration(b);  // m/s^2
     for_each_neighbour(list, b, [&](std::uint32_t f) {
       if (particles.type[f] != ParticleType::Fluid) return;
       const Vec2 r_bf = particles.position[b] - particles.position[f];
@@ -505,7 +507,7 @@ void compute_wall_pressure_stencil(const ParticleSet& particles, const SphSystem
       stencil.fluid.push_back(f);
       stencil.weight.push_back(w);
       weight_sum += w;
-      offset += density[f] * gravity.dot(r_bf) * w;  // [AHA12] eq. (27), a_b = 0
+      offset += density[f] * body_force.dot(r_bf) * w;  // [AHA12] eq. (27)
     });
     if (weight_sum <= 0.0) continue;
     for (std::size_t k = first; k < stencil.fluid.size(); ++k) stencil.weight[k] /= weight_sum;

@@ -108,8 +108,9 @@ enum class WallPressure {
   // pressure of the fluid particle i it acts on, once: a_i -= Psi_b s_i grad W_ib.
   Mirrored,
   // [BGI18]: the wall has a pressure p_b of its own, extrapolated from the fluid ([AHA12] eq. (27)
-  // with a_b = 0), in the symmetric force a_i -= Psi_b (s_i + p_b / rho0^2) grad W_ib:
-  //   boundary particle b:  p_b = sum_f [p_f + rho_f g.(x_b - x_f)] W_bf / sum_f W_bf (fluid f near b)
+  // with the wall particle's acceleration a_b), in the symmetric force a_i -= Psi_b (s_i + p_b / rho0^2) grad W_ib:
+  //   boundary particle b:  p_b = sum_f [p_f + rho_f (g - a_b).(x_b - x_f)] W_bf / sum_f W_bf (fluid f near b;
+  //                         a_b = particles.prescribed_wall_acceleration(b): 0 at rest, a moving obstacle's)
   //   wall sample w at rest (source i): the same sum over i and its fluid neighbours f
   //   mirror image w of a fluid particle: as Mirrored (its source's pressure already enters
   //   both ways through the constraint), plus the hydrostatic part rho0 g.(x_w - x_s).
@@ -127,7 +128,7 @@ struct WallPressureStencil {
   std::vector<std::uint32_t> fluid;     // f
   std::vector<double> weight;           // W_bf / sum_f W_bf ([AHA12] eq. (27): Shepard weights)
   // Per particle (0 but for the rows' b): the hydrostatic part of s_b,
-  // max(0, sum_f rho_f g.(x_b - x_f) W_bf / sum_f W_bf) / rho0^2, m^5/(kg s^2).
+  // max(0, sum_f rho_f (g - a_b).(x_b - x_f) W_bf / sum_f W_bf) / rho0^2, m^5/(kg s^2).
   std::vector<double> hydrostatic;
   // The same for the wall samples at rest that carry their owner's pressure
   // (is_resting_own_sample), by sample index q (rows of the other samples are empty; no rows

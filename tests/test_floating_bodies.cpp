@@ -1,0 +1,162 @@
+// Floating and submerged bodies against theory (issue 15, item 4; docs/bodies.md, "Floating box:
+// draft and heave" and "Rising and sinking boxes"): every registered method that can move a body
+// (it reports obstacle loads and uses the walls' velocity) floats the box of
+// scenes/floating_box_heave.json at its draft within the measured convergence, heaves it
+// with the period of the added-mass estimate, and sinks the dense box of scenes/sinking_box.json
+// near the drag estimate's terminal speed. Coarse spacings (the study at finer ones:
+// analysis/floating_bodies.py).
+#include <catch2/catch.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <vector>
+
+#include "core/base/error.hpp"
+#include "core/run/driver.hpp"
+#include "core/run/stability.hpp"
+#include "support.hpp"
+
+using namespace mps_lab;
+using namespace mps_lab::testing;
+
+namespace {
+
+constexpr double kPi = 3.141592653589793;
+
+struct BodyTrack {
+  std::vector<double> t, y, v;  // s, m (centre of mass height), m/s (its vertical velocity)
+  bool completed = true;        // false: the run stopped (diverged)
+  std::size_t fluid_particles = 0;
+};
+
+// A run of `scene` with `method`, the body's height and vertical velocity after every step.
+BodyTrack track_body(const Scene& scene, const MethodInfo& method) {
+  BodyTrack track;
+  Simulation simulation(scene, method);
+  for (std::size_t i = 0; i < simulation.particles().size(); ++i) {
+    if (simulation.particles().type[i] == ParticleType::Fluid) ++track.fluid_particles;
+  }
+  try {
+    while (simulation.time() < scene.time.end_time - 1e-9) {
+      simulation.advance();
+      track.t.push_back(simulation.time());
+      track.y.push_back(simulation.bodies().state(0).position.y());
+      track.v.push_back(simulation.bodies().state(0).velocity.y());
+    }
+  } catch (const RunStopped&) {
+    track.completed = false;
+  }
+  return track;
+}
+
+// Whether a run of the scene can move its body: the method reports the loads on it and uses the
+// walls' velocity (core/run/method.hpp); the others stop at start with a one-line error.
+bool moves_bodies(const Scene& scene, const MethodInfo& method) {
+  return method.moving_walls && reports_obstacle_loads(scene, method);
+}
+
+struct Heave {
+  double draft = 0.0;    // the rest level less the bottom's mean height over the first period, m
+  double period = 0.0;   // from the release (a turning point) to the second turning point after it, s
+  double damping = 0.0;  // zeta from the decay of the first two half swings
+  int turns = 0;         // turning points found
+};
+
+// Turning points: the release (v = 0) and where v changes sign, at least 0.15 s apart (a quarter
+// of the shortest period the estimate allows, 0.66 s: the sign flickers near a turn are merged).
+// Only the first period is used: the tank's waves come back from its sides after about 0.6 s
+// (docs/bodies.md).
+Heave heave_of(const BodyTrack& track, double rest_centre, double draft_theory) {
+  std::vector<std::size_t> turns = {0};
+  for (std::size_t i = 1; i < track.v.size(); ++i) {
+    if ((track.v[i - 1] < 0.0) == (track.v[i] < 0.0)) continue;
+    if (track.t[i] - track.t[turns.back()] < 0.15) continue;
+    turns.push_back(i);
+  }
+  Heave heave;
+  heave.turns = static_cast<int>(turns.size());
+  if (turns.size() < 3) return heave;
+  heave.period = track.t[turns[2]] - track.t[turns[0]];
+  // Half swings h_k = |y(turn k+1) - y(turn k)| decay by exp(-zeta pi / sqrt(1 - zeta^2)) each.
+  const double first = std::fabs(track.y[turns[1]] - track.y[turns[0]]);
+  const double second = std::fabs(track.y[turns[2]] - track.y[turns[1]]);
+  const double per_half = std::log(first / second);
+  heave.damping = per_half / std::sqrt(kPi * kPi + per_half * per_half);
+  double sum = 0.0;
+  for (std::size_t i = turns[0]; i < turns[2]; ++i) sum += track.y[i];
+  heave.draft = draft_theory + rest_centre - sum / static_cast<double>(turns[2] - turns[0]);
+  return heave;
+}
+
+// Largest 0.05 s running mean of |v|, m/s.
+double largest_speed(const BodyTrack& track) {
+  double best = 0.0;
+  std::size_t begin = 0;
+  double sum = 0.0;
+  for (std::size_t i = 0; i < track.v.size(); ++i) {
+    sum += std::fabs(track.v[i]);
+    while (track.t[i] - track.t[begin] > 0.05) sum -= std::fabs(track.v[begin++]);
+    if (track.t[i] >= 0.05) best = std::max(best, sum / static_cast<double>(i - begin + 1));
+  }
+  return best;
+}
+
+}  // namespace
+
+TEST_CASE("floating box: draft heave period and damping and a sinking box's speed - every method that moves bodies",
+          "[bodies][coupling][floating][long]") {
+  // scenes/floating_box_heave.json: a box B x H = 0.2 x 0.1 m (polygon: the same surface at every
+  // l0), rho_b = 500, draft d = rho_b/rho_w H = 0.05 m, released at rest 12 mm deeper; here at
+  // l0 = 0.025 m (d = 2 l0), 1 s. The level at rest: the water is N l0^2 of area over a bed at
+  // l0/2 between sides W - l0 apart (the wall surfaces l0/2 inside the first wall particles), so
+  // (W - l0)(eta - l0/2) = N l0^2 + B d; the draft is eta less the bottom's mean height.
+  // Measured (analysis/floating_bodies.py, mean over 2 s): draft error +11.4 % (isph) and +2.7 %
+  // (dfsph) at this l0, +5.8 % and +0.8 % at l0 = 0.0125 (isph: first order); over the first
+  // period alone (here) +13.7 % and -2.3 %: asserted within 16 %.
+  const double l0 = 0.025, B = 0.2, H = 0.1, d = 0.05, W = 1.2;
+  // Heave: T = 2 pi sqrt((m + a33) / (rho_w g B)), m = 10 kg/m, a33 between 0.6 and 1.0 of the Lewis
+  // form's infinite-frequency 19.7 kg/m (docs/bodies.md): 0.663-0.774 s; asserted within 0.8-1.15
+  // of that band at this coarse l0 (measured: docs/bodies.md). Damping: the radiated waves make
+  // it under-critical and clearly positive: zeta asserted in (0.03, 0.6).
+  const double period_low = 0.663, period_high = 0.774;
+  // Sinking: scenes/sinking_box.json at l0 = 0.02 m (a = 3 l0), rho_b = 1500: U = sqrt(2 |rho_b -
+  // rho_w| g a / (rho_w C_d)) = 0.542 m/s for C_d = 2.0; the tank (6 a wide) blocks the flow,
+  // C_d (6/5)^2 = 2.88 gives 0.452 m/s, and the box tilts (a square at 45 deg: C_d about 1.5,
+  // 0.63 m/s). Measured 0.327 (dfsph) and 0.429 m/s (isph), rising with resolution to 0.398 and
+  // 0.542 m/s at a = 6 l0 (docs/bodies.md): asserted in 0.55-1.15 x 0.542 m/s.
+  const double drag_speed = std::sqrt(2.0 * 500.0 * 9.81 * 0.06 / (1000.0 * 2.0));
+  const Scene heave_scene = load("floating_box_heave.json", {"time.end_time=1.0"});
+  const Scene sinking_scene = load("sinking_box.json", {"particle_spacing=0.02"});
+  int floating = 0;
+  for (const MethodInfo* method : registries().methods.all()) {
+    if (!moves_bodies(heave_scene, *method)) continue;
+    const BodyTrack track = track_body(heave_scene, *method);
+    const auto lowest = std::min_element(track.y.begin(), track.y.end());
+    const double count = static_cast<double>(track.fluid_particles);
+    const double level = l0 / 2 + (count * l0 * l0 + B * d) / (W - l0);  // eta, m
+    const double rest_centre = level - d + H / 2;
+    if (!track.completed || track.y.empty() || *lowest < rest_centre - H) {
+      WARN(method->name << " does not float the box (lowest centre " << (track.y.empty() ? 0.0 : *lowest) << " m)");
+      continue;
+    }
+    ++floating;
+    const Heave heave = heave_of(track, rest_centre, d);
+    INFO(method->name << ": level at rest " << level << " m, draft " << heave.draft << " m, period " << heave.period
+                      << " s, zeta " << heave.damping << ", " << heave.turns << " turning points");
+    REQUIRE(heave.turns >= 3);
+    CHECK(std::fabs(heave.draft - d) < 0.16 * d);
+    CHECK(heave.period > 0.8 * period_low);
+    CHECK(heave.period < 1.15 * period_high);
+    CHECK(heave.damping > 0.03);
+    CHECK(heave.damping < 0.6);
+    const BodyTrack sinking = track_body(sinking_scene, *method);
+    INFO(method->name << ": the sinking box's largest speed " << largest_speed(sinking) << " m/s, drag estimate "
+                      << drag_speed << " m/s; it went from 0.51 to " << sinking.y.back() << " m");
+    CHECK(sinking.completed);
+    CHECK(sinking.y.back() < 0.51 - 0.12);  // sank by more than 2 a
+    CHECK(largest_speed(sinking) > 0.55 * drag_speed);
+    CHECK(largest_speed(sinking) < 1.15 * drag_speed);
+  }
+  // dfsph and isph float the box on main (mps with its spec wall particles sinks it: docs/bodies.md).
+  CHECK(floating >= 2);
+}
