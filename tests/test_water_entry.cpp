@@ -57,7 +57,8 @@ int wall_particles_in_circle(const ParticleSet& particles, Vec2 centre, double r
 int fluid_inside_circle(const ParticleSet& particles, Vec2 centre, double radius, double l0) {
   int count = 0;
   for (std::size_t i = 0; i < particles.size(); ++i) {
-    if (particles.type[i] == ParticleType::Fluid && (particles.position[i] - centre).norm() < radius - 0.5 * l0) ++count;
+    if (particles.type[i] == ParticleType::Fluid && (particles.position[i] - centre).norm() < radius - 0.5 * l0)
+      ++count;
   }
   return count;
 }
@@ -147,8 +148,8 @@ TEST_CASE("water entry: every method that moves walls against Campbell and Weynb
   int runs = 0;
   for (const MethodInfo* method : registries().methods.all()) {
     if (!method->obstacle_loads || !method->moving_walls) continue;
-    std::vector<std::string> overrides = {"method=" + method->name, "particle_spacing=0.005",
-                                          "time.time_step=0.0001", "time.end_time=0.033"};
+    std::vector<std::string> overrides = {"method=" + method->name, "particle_spacing=0.005", "time.time_step=0.0001",
+                                          "time.end_time=0.033"};
     for (const auto& spec : method->parameters) {
       if (spec.name == "time_step_rule") overrides.push_back("methods." + method->name + ".time_step_rule=\"fixed\"");
     }
