@@ -125,6 +125,7 @@ TEST_CASE("obstacle loads: mps wall pair terms are equal and opposite to what th
 
 TEST_CASE("obstacle loads: mps still water - the spec's gradient against the momentum-conserving CMPS one",
           "[mps][loads][hydrostatic]") {
+  // obstacle_load pair_reaction (the default is wall_pressure: tests/test_mps_surface_loads.cpp).
   // The spec's gradient (P_j - P_min,i) is not antisymmetric in i and j: the fluid's own pairs
   // carry part of its weight, and what the wall pairs carry is not the wall's hydrostatic load.
   // CMPS's pair [(P_i + P_j) - (Phat_i + Phat_j)] is antisymmetric: the fluid's pairs cancel and
@@ -140,8 +141,9 @@ TEST_CASE("obstacle loads: mps still water - the spec's gradient against the mom
   } cases[] = {{"spec", 0.1143, 0.4267}, {"cmps", 0.7265, 0.9803}};
   for (const auto& expected : cases) {
     const char* scheme = expected.scheme;
-    const Scene scene = load("hydrostatic.json", {kObstacles, "method=mps",
-                                                  std::string("methods.mps.pressure_gradient=\"") + scheme + "\""});
+    const Scene scene =
+        load("hydrostatic.json", {kObstacles, "method=mps", "methods.mps.obstacle_load=\"pair_reaction\"",
+                                  std::string("methods.mps.pressure_gradient=\"") + scheme + "\""});
     Simulation run(scene, *registries().methods.find("mps"));
     run.run_to(1.0);
     Vec2 box = Vec2::Zero(), plate = Vec2::Zero();

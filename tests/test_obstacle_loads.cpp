@@ -132,9 +132,10 @@ namespace {
 //     0.25 %; the plate 4-13 % low (the top row of particles, at the free surface, carries less than
 //     the continuum: with h = 0.2625 m, to the particle centres, rho g h^2 / 2 is 0.91 of it).
 //   dfsph (Akinci): the plate within 2 %, the small submerged box 25 % low.
-//   mps (spec): the spec's gradient (P_j - P_min,i) is not antisymmetric, so the wall pairs carry
-//     only part of the weight the wall holds up: 0.11 of the buoyancy, 0.43 of the plate's thrust
-//     (tests/test_mps_loads.cpp: with the antisymmetric CMPS gradient 0.73 and 0.98).
+//   mps (spec; obstacle_load wall_pressure, the default): the surface wall particles' pressure over
+//     the surface: 0.85 of the buoyancy, 0.94 of the plate's thrust (tests/test_mps_surface_loads.cpp;
+//     the reaction of the spec's wall pairs, obstacle_load pair_reaction, carries 0.11 and 0.43:
+//     the spec's gradient (P_j - P_min,i) is not antisymmetric, tests/test_mps_loads.cpp).
 struct Expected {
   const char* run;
   double box, plate, torque;
@@ -142,7 +143,7 @@ struct Expected {
 constexpr Expected kMeasured[] = {{"dfsph x akinci_boundary", 0.7523, 0.9808, 0.9881},
                                   {"eisph x adami_wall_particles", 0.9977, 0.8952, 0.8936},
                                   {"isph x adami_wall_particles", 1.0009, 0.8746, 0.8784},
-                                  {"mps x spec_wall_particles", 0.1143, 0.4267, 0.3977},
+                                  {"mps x spec_wall_particles", 0.8500, 0.9372, 0.9243},
                                   {"wcsph x adami_wall_particles", 1.0004, 0.9552, 0.9249}};
 
 const Expected* measured(const std::string& run) {
@@ -184,10 +185,11 @@ TEST_CASE("obstacle loads: still water on a submerged box and a plate - Archimed
       CHECK(mean.box_force.y() / buoyancy == Approx(expected->box).margin(0.03));
       CHECK(mean.plate_force.x() / thrust == Approx(expected->plate).margin(0.03));
       CHECK(mean.plate_torque / moment == Approx(expected->torque).margin(0.03));
-      // Symmetry: no sideways force on the box beyond 5 % of its buoyancy (measured at most 3.8 %,
+      // Symmetry: no sideways force on the box beyond 9 % of its buoyancy (measured at most 7.3 %,
+      // mps's wall pressure, -6.7 N/m: its side faces' noisy pressures; the others at most 3.8 %,
       // dfsph), no torque beyond that of 4 % of the buoyancy at its half-width, 0.23 N (measured
-      // at most 0.17 N, mps).
-      CHECK(std::abs(mean.box_force.x()) < 0.05 * buoyancy);
+      // at most 0.12 N, dfsph).
+      CHECK(std::abs(mean.box_force.x()) < 0.09 * buoyancy);
       CHECK(std::abs(mean.box_torque) < 0.04 * buoyancy * 0.0625);
       ++runs;
     }

@@ -52,6 +52,9 @@ struct StepReport {
   std::vector<double> extra;
 };
 
+// What a method's load on obstacles is (Method::obstacle_load_kind).
+enum class ObstacleLoadKind { PairReaction, SurfacePressure };
+
 class Method {
  public:
   virtual ~Method() = default;
@@ -82,9 +85,15 @@ class Method {
   // Loads on obstacles (MethodInfo::obstacle_loads, docs/walls.md "Loads on obstacles"): the force
   // the fluid put on each wall particle in the last step, N/m, one entry per particle in the
   // current order (zero for fluid): minus the sum over its fluid neighbours i of m_i times the
-  // acceleration its pair terms (pressure and viscosity) gave i. Computed in every step of a
-  // scene with obstacles and a boundary model of wall particles; null otherwise (the default).
+  // acceleration its pair terms (pressure and viscosity) gave i (or, by obstacle_load_kind, its
+  // pressure's share of the wetted surface). Computed in every step of a scene with obstacles and a
+  // boundary model of wall particles; null otherwise (the default).
   virtual const std::vector<Vec2>* wall_reactions() const { return nullptr; }
+  // What wall_reactions() holds: the reaction of the fluid's wall pair terms (PairReaction: the
+  // fluid receives exactly the opposite, to rounding), or the integral of the wall's pressure over
+  // the obstacles' wetted surface (SurfacePressure: the pressure's part is not the exact opposite
+  // of the fluid's wall terms; docs/walls.md, "Loads on obstacles").
+  virtual ObstacleLoadKind obstacle_load_kind() const { return ObstacleLoadKind::PairReaction; }
 };
 
 struct MethodSetup {

@@ -5,9 +5,6 @@
 
 namespace mps_lab {
 
-namespace {
-
-// Whether x is a point of the tank's walls: on or beyond a walled side of the domain.
 bool on_tank_wall(const Vec2& x, const Scene& scene, double eps) {
   const TankWalls& w = scene.walls;
   const Box& d = scene.domain;
@@ -15,8 +12,7 @@ bool on_tank_wall(const Vec2& x, const Scene& scene, double eps) {
          (w.bottom && x.y() <= d.min.y() + eps) || (w.top && x.y() >= d.max.y() - eps);
 }
 
-// Whether the scene's obstacle k holds the wall point x: inside or on its polygon, or its box.
-bool holds(const Scene& scene, std::size_t k, const Vec2& x, double eps) {
+bool obstacle_holds(const Scene& scene, std::size_t k, const Vec2& x, double eps) {
   if (scene.walls.is_polygon(k)) {
     const Polygon& polygon = scene.walls.polygons[k];
     return inside_polygon(x, polygon) || distance_to_polygon(x, polygon) <= eps;
@@ -26,15 +22,13 @@ bool holds(const Scene& scene, std::size_t k, const Vec2& x, double eps) {
          x.y() <= box.max.y() + eps;
 }
 
-}  // namespace
-
 std::vector<std::int32_t> obstacle_of_wall_particles(const Scene& scene, const ParticleSet& initial) {
   std::vector<std::int32_t> owner(initial.size(), kNoObstacle);
   const double eps = 1e-6 * scene.particle_spacing;
   for (std::size_t i = 0; i < initial.size(); ++i) {
     if (initial.type[i] != ParticleType::Wall || on_tank_wall(initial.position[i], scene, eps)) continue;
     for (std::size_t k = 0; k < scene.walls.obstacles.size(); ++k) {
-      if (!holds(scene, k, initial.position[i], eps)) continue;
+      if (!obstacle_holds(scene, k, initial.position[i], eps)) continue;
       owner[i] = static_cast<std::int32_t>(k);
       break;
     }

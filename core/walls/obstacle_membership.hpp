@@ -20,6 +20,12 @@ namespace mps_lab {
 
 constexpr std::int32_t kNoObstacle = -1;
 
+// Whether x is a point of the tank's walls: on or beyond (within eps, m) a walled side of the domain.
+bool on_tank_wall(const Vec2& x, const Scene& scene, double eps);
+// Whether the scene's obstacle k (where the scene puts it) holds the point x: inside or on its
+// polygon (within eps, m), or in its closed box.
+bool obstacle_holds(const Scene& scene, std::size_t k, const Vec2& x, double eps);
+
 // Per particle of `initial` (index = id): the obstacle k it belongs to, or kNoObstacle (fluid,
 // tank walls, ghosts). The first obstacle that holds a wall point (inside or on its polygon, or
 // in its closed box) owns it; a point a tank wall also holds stays with the tank.

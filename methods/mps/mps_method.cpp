@@ -20,6 +20,8 @@
 #include "core/io/scene.hpp"
 #include "core/run/method.hpp"
 #include "core/search/cell_order.hpp"
+#include "core/walls/obstacle_membership.hpp"
+#include "methods/mps/mps_loads.hpp"
 #include "methods/mps/mps_operators.hpp"
 #include "methods/mps/mps_pressure.hpp"
 #include "methods/mps/mps_schemes.hpp"
@@ -76,6 +78,7 @@ class MpsMethod final : public Method {
     read_schemes(p);
     // Loads on obstacles (MethodInfo::obstacle_loads): the reaction on wall particles, when there are both.
     computes_reactions_ = !scene_.walls.obstacles.empty() && walls_.wall_particles();
+    surface_loads_ = p.string("obstacle_load") == "wall_pressure";
     particle_mass_ = scene_.physics.density * l0 * l0;
   }
 
@@ -93,6 +96,10 @@ class MpsMethod final : public Method {
           (particles.type[i] == ParticleType::Wall && particles.wall_layer[i] <= pressure_wall_layers_);
     }
     acceleration_.assign(n, Vec2::Zero());
+    if (computes_reactions_ && surface_loads_) {  // the obstacles' surfaces where the scene puts them
+      const ParticleSet rest = build_particles(scene_, true);
+      surface_ = obstacle_surface(scene_, rest, obstacle_of_wall_particles(scene_, rest));
+    }
     WallContext context{particles, &neighbours_, 0.0, scene_};
     search_with_samples(particles, context);
     number_density(particles, neighbours_, samples_, density_radius_, particles.field("number_density"));
@@ -168,6 +175,10 @@ class MpsMethod final : public Method {
   // Loads on obstacles (core/walls/obstacle_loads.hpp): the fluid's force on each wall particle
   // in the last step, N/m; null without obstacles or without wall particles (Method::wall_reactions).
   const std::vector<Vec2>* wall_reactions() const override { return computes_reactions_ ? &reaction_ : nullptr; }
+  // obstacle_load wall_pressure: the surface integral of the wall's pressure; pair_reaction: the wall pairs'.
+  ObstacleLoadKind obstacle_load_kind() const override {
+    return surface_loads_ ? ObstacleLoadKind::SurfacePressure : ObstacleLoadKind::PairReaction;
+  }
 
   // Cell-ordered particles (core/search/cell_order.hpp): what save_state keeps per particle.
   void permute_state(const ParticleOrder& order) override {
@@ -307,9 +318,18 @@ class MpsMethod final : public Method {
     }
   }
 
-  // The reaction of the pressure term's wall pairs (add_pressure_wall_reactions), with the P_min
+  // The pressure's load on the wall particles: obstacle_load wall_pressure, the wall particles'
+  // pressure of this step's solve over the surface each stands for (mps_loads.hpp); pair_reaction,
+  // the reaction of the pressure term's wall pairs (add_pressure_wall_reactions), with the P_min
   // of the spec's gradient (CMPS has its Phat already).
   void pressure_reactions(const ParticleSet& particles) {
+    if (surface_loads_) {
+      wetted_wall_particles(particles, neighbours_, gradient_radius_.re, wetted_);
+      add_surface_pressure_loads(particles, wetted_, surface_, obstacle_rotations(scene_, surface_, particles),
+                                 scene_.physics.density, scene_.physics.gravity, 0.5 * scene_.particle_spacing,
+                                 reaction_);
+      return;
+    }
     const bool cmps = gradient_scheme_ == PressureGradientScheme::Cmps;
     if (!cmps) {
       neighbourhood_minimum(particles, neighbours_, samples_, gradient_radius_, carries_pressure_,
@@ -382,6 +402,9 @@ class MpsMethod final : public Method {
   std::vector<char> carries_pressure_;
   std::vector<Vec2> acceleration_;  // m/s^2
   bool computes_reactions_ = false;
+  bool surface_loads_ = true;   // obstacle_load wall_pressure
+  std::vector<char> wetted_;    // wall particles with a fluid neighbour within re (wall_pressure loads)
+  ObstacleSurface surface_;     // the obstacles' surface wall particles (wall_pressure)
   double particle_mass_ = 0.0;  // rho l0^2, kg/m
   std::vector<Vec2> reaction_;  // the fluid's force on each wall particle in this step, N/m
   CellList cells_;
@@ -454,6 +477,11 @@ void mps_lab_register_method_mps(mps_lab::MethodRegistry& registry) {
       boolean_parameter("warm_start", true, "start CG from the previous step's pressure"),
       boolean_parameter("min_pressure_includes_self", true, "P_min of the gradient includes particle i (K&O 1996)"),
       boolean_parameter("clamp_negative_pressure", true, "set P < 0 to 0 after the solve (spec §5.2-7)"),
+      string_parameter("obstacle_load", "wall_pressure",
+                       "the fluid's load on obstacles: wall_pressure (the surface wall particles' pressure times "
+                       "their normal and surface, methods/mps/mps_loads.hpp) or pair_reaction (minus the wall pair "
+                       "terms of spec §2); drives bodies only, the fluid's dynamics are the same")
+          .one_of({"wall_pressure", "pair_reaction"}),
   };
   info.fields = {{"number_density", "", "n* at the provisional positions (spec §5.2-4)", true},
                  {"free_surface", "", "1 where n*/n0 < free_surface_threshold (P = 0)", true}};
@@ -463,7 +491,7 @@ void mps_lab_register_method_mps(mps_lab::MethodRegistry& registry) {
   info.wall_samples = true;
   info.wall_particle_models = {WallParticlePressure::SolvedInPpe};  // spec_wall_particles
   info.moving_walls = true;  // wall velocity in the viscous term and the wall pressure (docs/walls.md, "Moving walls")
-  info.obstacle_loads = true;  // the reaction of the wall-particle pair terms of spec §2 (docs/walls.md)
+  info.obstacle_loads = true;  // obstacle_load: the wall pressure over the surface, or the spec §2 wall pairs' reaction
   info.wall_hooks = mps::kWallHooks;
   info.create = [](const MethodSetup& setup) { return std::make_unique<mps::MpsMethod>(setup); };
   registry.add(std::move(info));
