@@ -218,18 +218,20 @@ def plot(folders: dict, window: float, path: str) -> None:
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
     methods = sorted({method for method, _ in folders})
-    figure, axes = plt.subplots(1, len(methods), figsize=(4.3 * len(methods), 3.8), sharey=True, squeeze=False)
+    figure, axes = plt.subplots(1, len(methods), figsize=(4.3 * len(methods), 3.8), squeeze=False)
     x = np.linspace(0.0, 0.7, 300)
     for axis, method in zip(axes[0], methods):
+        top = 7.0  # the axis' top: the curves' largest value up to 20
         for n in sorted(n for m, n in folders if m == method):
             curve = slamming_curve(data.load_run(folders[(method, n)]), window)
             axis.plot(curve["x"], curve["filtered"], lw=1.0, label=f"D/l0 = {n}")
+            top = max(top, min(20.0, 1.05 * float(np.max(curve["filtered"]))))
         axis.plot(x, campbell_weynberg(x), "k-", lw=1.6, label="Campbell & Weynberg (1980)")
         axis.axhline(math.pi, color="0.4", ls=":", lw=1.0, label="von Karman: π")
         axis.plot([0.0], [2.0 * math.pi], "kv", ms=6, label="Wagner: 2π at d → 0")
         axis.axvspan(*RANGE, color="0.92", zorder=0)
         axis.set_xlim(0.0, 0.7)
-        axis.set_ylim(-1.0, 7.0)
+        axis.set_ylim(-1.0, top)
         axis.set_title(method)
         axis.set_xlabel("d / D")
         axis.legend(fontsize=7)
