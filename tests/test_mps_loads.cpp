@@ -10,6 +10,7 @@
 #include "core/run/driver.hpp"
 #include "methods/mps/mps_operators.hpp"
 #include "methods/mps/mps_schemes.hpp"
+#include "still_water_obstacles.hpp"
 #include "support.hpp"
 
 using namespace mps_lab;
@@ -18,9 +19,7 @@ using namespace mps_lab::testing;
 
 namespace {
 
-// scenes/hydrostatic.json with a submerged box and a plate at the right wall (as tests/test_obstacle_loads.cpp).
-const char* const kObstacles =
-    "walls.obstacles=[{\"min\": [0.2, 0.1], \"max\": [0.3, 0.15]}, {\"min\": [0.45, 0.025], \"max\": [0.475, 0.5]}]";
+// The still-water case of tests/still_water_obstacles.hpp.
 constexpr double kDensity = 1000.0;      // kg/m^3
 constexpr double kGravity = 9.81;        // m/s^2
 constexpr double kFreeSurface = 0.2875;  // m
@@ -33,7 +32,7 @@ namespace {
 // a wobble, wall pressures above every fluid pressure (so that P_min of a fluid particle never is
 // a wall's, and the wall terms can be isolated by dropping the walls), and swirling velocities.
 struct PairState {
-  Scene scene = load("hydrostatic.json", {kObstacles});
+  Scene scene = load("hydrostatic.json", {kStillWaterObstacles});
   ParticleSet particles = build_particles(scene, true);
   NeighbourList neighbours;
   std::vector<char> carries_pressure;
@@ -142,7 +141,7 @@ TEST_CASE("obstacle loads: mps still water - the spec's gradient against the mom
   for (const auto& expected : cases) {
     const char* scheme = expected.scheme;
     const Scene scene =
-        load("hydrostatic.json", {kObstacles, "method=mps", "methods.mps.obstacle_load=\"pair_reaction\"",
+        load("hydrostatic.json", {kStillWaterObstacles, "method=mps", "methods.mps.obstacle_load=\"pair_reaction\"",
                                   std::string("methods.mps.pressure_gradient=\"") + scheme + "\""});
     Simulation run(scene, *registries().methods.find("mps"));
     run.run_to(1.0);

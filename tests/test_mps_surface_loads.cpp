@@ -14,6 +14,7 @@
 #include "core/walls/obstacle_membership.hpp"
 #include "core/walls/obstacle_surface.hpp"
 #include "methods/mps/mps_loads.hpp"
+#include "still_water_obstacles.hpp"
 #include "support.hpp"
 
 using namespace mps_lab;
@@ -21,11 +22,7 @@ using namespace mps_lab::testing;
 
 namespace {
 
-// scenes/hydrostatic.json with a submerged box and a plate at the right wall (as tests/test_obstacle_loads.cpp):
-// box surface [0.1875, 0.3125] x [0.0875, 0.1625]; plate surface [0.4375, 0.4875] x [0.0125, 0.5125],
-// its right face against the tank's wall (x = 0.5) and its foot on the bed (y = 0).
-const char* const kObstacles =
-    "walls.obstacles=[{\"min\": [0.2, 0.1], \"max\": [0.3, 0.15]}, {\"min\": [0.45, 0.025], \"max\": [0.475, 0.5]}]";
+// The still-water case of tests/still_water_obstacles.hpp.
 constexpr double kDensity = 1000.0;      // kg/m^3
 constexpr double kGravity = 9.81;        // m/s^2
 constexpr double kFreeSurface = 0.2875;  // m
@@ -56,7 +53,7 @@ SurfaceSums surface_sums(const ObstacleSurface& surface, std::int32_t k) {
 TEST_CASE("obstacle surface: the shares of a box a plate and a triangle add up to their wetted faces",
           "[walls][loads]") {
   // Exact up to rounding (1e-12 m on sums of O(1) m).
-  const Scene scene = load("hydrostatic.json", {kObstacles});
+  const Scene scene = load("hydrostatic.json", {kStillWaterObstacles});
   const ParticleSet particles = build_particles(scene, true);
   const ObstacleSurface surface = obstacle_surface(scene, particles, obstacle_of_wall_particles(scene, particles));
   // The box: its 5 x 3 lattice has 12 particles on its sides, 4 of them corners with l0 on each
@@ -155,35 +152,13 @@ TEST_CASE("obstacle surface: the rotation of a body from its wall particles", "[
 
 namespace {
 
-struct StillWater {
-  Vec2 box = Vec2::Zero(), plate = Vec2::Zero();  // N/m
-  double box_torque = 0.0, plate_torque = 0.0;    // N
-};
-
-// The mean loads over t = 1-2 s of mps on scenes/hydrostatic.json with kObstacles.
-StillWater still_water(const std::vector<std::string>& settings) {
-  std::vector<std::string> overrides = {kObstacles, "method=mps"};
+// The mean loads over t = 1-2 s of mps on scenes/hydrostatic.json with kStillWaterObstacles.
+MeanLoads still_water(const std::vector<std::string>& settings) {
+  std::vector<std::string> overrides = {kStillWaterObstacles, "method=mps"};
   overrides.insert(overrides.end(), settings.begin(), settings.end());
-  const Scene scene = load("hydrostatic.json", overrides);
+  const Scene scene = load("hydrostatic.json", overrides);  // the Simulation keeps a reference to it
   Simulation run(scene, *registries().methods.find("mps"));
-  run.run_to(1.0);
-  StillWater mean;
-  long long steps = 0;
-  while (run.time() < 2.0) {
-    run.advance();
-    const ObstacleLoads& loads = run.obstacle_loads();
-    mean.box += loads.force[0];
-    mean.plate += loads.force[1];
-    mean.box_torque += loads.torque[0];
-    mean.plate_torque += loads.torque[1];
-    ++steps;
-  }
-  const double n = static_cast<double>(steps);
-  mean.box /= n;
-  mean.plate /= n;
-  mean.box_torque /= n;
-  mean.plate_torque /= n;
-  return mean;
+  return mean_loads(run, 1.0, 2.0);
 }
 
 }  // namespace
@@ -208,17 +183,17 @@ TEST_CASE("mps surface pressure load: still water - Archimedes rho g h^2 / 2 and
     double box, plate, torque;
   } cases[] = {{"spec", 0.8500, 0.9372, 0.9243}, {"cmps", 0.7097, 1.1737, 1.1512}};
   for (const auto& expected : cases) {
-    const StillWater mean = still_water({std::string("methods.mps.pressure_gradient=\"") + expected.scheme + "\""});
-    INFO("mps " << expected.scheme << " wall_pressure: box " << mean.box.transpose() << " N/m ("
-                << mean.box.y() / buoyancy << "), torque " << mean.box_torque << " N; plate " << mean.plate.transpose()
-                << " N/m (" << mean.plate.x() / thrust << "), torque " << mean.plate_torque << " N ("
-                << mean.plate_torque / moment << ")");
-    CHECK(mean.box.y() / buoyancy == Approx(expected.box).margin(0.03));
-    CHECK(mean.plate.x() / thrust == Approx(expected.plate).margin(0.03));
+    const MeanLoads mean = still_water({std::string("methods.mps.pressure_gradient=\"") + expected.scheme + "\""});
+    INFO("mps " << expected.scheme << " wall_pressure: box " << mean.box_force.transpose() << " N/m ("
+                << mean.box_force.y() / buoyancy << "), torque " << mean.box_torque << " N; plate "
+                << mean.plate_force.transpose() << " N/m (" << mean.plate_force.x() / thrust << "), torque "
+                << mean.plate_torque << " N (" << mean.plate_torque / moment << ")");
+    CHECK(mean.box_force.y() / buoyancy == Approx(expected.box).margin(0.03));
+    CHECK(mean.plate_force.x() / thrust == Approx(expected.plate).margin(0.03));
     CHECK(mean.plate_torque / moment == Approx(expected.torque).margin(0.03));
     if (std::string(expected.scheme) != "spec") continue;  // the default: what floats a body in mps
-    CHECK(mean.box.y() > 0.8 * buoyancy);
-    CHECK(mean.plate.x() > 0.9 * thrust);
+    CHECK(mean.box_force.y() > 0.8 * buoyancy);
+    CHECK(mean.plate_force.x() > 0.9 * thrust);
   }
 }
 

@@ -13,6 +13,7 @@
 #include "core/io/geometry.hpp"
 #include "core/run/driver.hpp"
 #include "core/walls/obstacle_membership.hpp"
+#include "still_water_obstacles.hpp"
 #include "support.hpp"
 
 using namespace mps_lab;
@@ -26,8 +27,6 @@ namespace {
 //      l0/2, 0.125 x 0.075 m = 9.375e-3 m^2, centred on the tank's axis, 0.125 m under the surface;
 //   1: a plate standing on the bed at the right wall, lattice corners [0.45, 0.025]-[0.475, 0.5]:
 //      wetted on its left face x = 0.4375 over the whole depth h = 0.275 m.
-const char* const kObstacles =
-    "walls.obstacles=[{\"min\": [0.2, 0.1], \"max\": [0.3, 0.15]}, {\"min\": [0.45, 0.025], \"max\": [0.475, 0.5]}]";
 constexpr double kDensity = 1000.0;                          // kg/m^3
 constexpr double kGravity = 9.81;                            // m/s^2
 constexpr double kBoxArea = 0.125 * 0.075;                   // m^2
@@ -46,37 +45,10 @@ std::vector<std::string> boundary_overrides(const MethodInfo& method, const Wall
   return overrides;
 }
 
-struct MeanLoads {
-  Vec2 box_force = Vec2::Zero(), plate_force = Vec2::Zero();  // N/m
-  double box_torque = 0.0, plate_torque = 0.0;                // N
-};
-
-// The loads averaged over every step in [from, to] s.
-MeanLoads mean_loads(Simulation& run, double from, double to) {
-  MeanLoads mean;
-  long long steps = 0;
-  run.run_to(from);
-  while (run.time() < to) {
-    run.advance();
-    const ObstacleLoads& loads = run.obstacle_loads();
-    mean.box_force += loads.force[0];
-    mean.plate_force += loads.force[1];
-    mean.box_torque += loads.torque[0];
-    mean.plate_torque += loads.torque[1];
-    ++steps;
-  }
-  const double n = static_cast<double>(steps);
-  mean.box_force /= n;
-  mean.plate_force /= n;
-  mean.box_torque /= n;
-  mean.plate_torque /= n;
-  return mean;
-}
-
 }  // namespace
 
 TEST_CASE("obstacle loads: membership by id follows the particles and the centroid of a polygon", "[walls][loads]") {
-  const Scene scene = load("hydrostatic.json", {kObstacles});
+  const Scene scene = load("hydrostatic.json", {kStillWaterObstacles});
   const ParticleSet particles = build_particles(scene, true);
   const std::vector<std::int32_t> owner = obstacle_of_wall_particles(scene, particles);
   // Box 0: 5 x 3 lattice points; plate 1: 2 x 20 (y = 0.025 .. 0.5), none of them a tank wall point.
@@ -105,7 +77,7 @@ TEST_CASE("obstacle loads: membership by id follows the particles and the centro
 
 TEST_CASE("obstacle loads: series columns and the capability computed from the declarations", "[walls][loads]") {
   for (const MethodInfo* method : registries().methods.all()) {
-    const Scene scene = load("hydrostatic.json", {kObstacles, "method=" + method->name});
+    const Scene scene = load("hydrostatic.json", {kStillWaterObstacles, "method=" + method->name});
     const std::vector<std::string> columns = series_columns(*method, scene);
     const bool has = std::find(columns.begin(), columns.end(), "obstacle_1_torque") != columns.end();
     CHECK(has == reports_obstacle_loads(scene, *method));
@@ -118,15 +90,16 @@ TEST_CASE("obstacle loads: series columns and the capability computed from the d
   // A boundary model of wall samples carries no reaction: the gap names it.
   const MethodInfo* isph = registries().methods.find("isph");
   REQUIRE(isph != nullptr);
-  const Scene samples = load("hydrostatic.json", {kObstacles, "methods.isph.wall_treatments.dummy_layers.enabled=true",
-                                                  "methods.isph.wall_treatments.adami_wall_particles.enabled=false"});
+  const Scene samples =
+      load("hydrostatic.json", {kStillWaterObstacles, "methods.isph.wall_treatments.dummy_layers.enabled=true",
+                                "methods.isph.wall_treatments.adami_wall_particles.enabled=false"});
   CHECK_THAT(obstacle_loads_gap(samples, *isph), Catch::Contains("dummy_layers"));
 }
 
 namespace {
 
 // What each method x wall-particle model measured (mean over t = 1-2 s, scenes/hydrostatic.json with
-// kObstacles, l0 = 0.025 m), as ratios to the analytic loads: the box's vertical force to rho g A,
+// kStillWaterObstacles, l0 = 0.025 m), as ratios to the analytic loads: the box's vertical force to rho g A,
 // the plate's horizontal force to rho g h^2 / 2, the plate's torque to its hydrostatic moment.
 //   isph, eisph, wcsph (Adami wall pressure; symmetric gradient inside the fluid): Archimedes within
 //     0.25 %; the plate 4-13 % low (the top row of particles, at the free surface, carries less than
@@ -169,7 +142,7 @@ TEST_CASE("obstacle loads: still water on a submerged box and a plate - Archimed
     for (const WallTreatmentInfo* model : registries().walls.all()) {
       if (!model->wall_particles || !wall_treatment_supports(*model, *method)) continue;
       std::vector<std::string> overrides = boundary_overrides(*method, *model);
-      overrides.insert(overrides.end(), {kObstacles, "method=" + method->name});
+      overrides.insert(overrides.end(), {kStillWaterObstacles, "method=" + method->name});
       const Scene scene = load("hydrostatic.json", overrides);
       Simulation run(scene, *method);
       REQUIRE(run.reports_obstacle_loads());
