@@ -17,7 +17,7 @@ import math
 import os
 
 from mps_lab import data, pressure, runner
-from mps_lab.studies.common import write_csv
+from mps_lab.studies.common import formatted, write_csv
 
 SCENE = "scenes/dambreak_buchner.json"
 HEIGHT = 0.6  # m, H of the experiment
@@ -83,12 +83,6 @@ def experiment_row(validation: pressure.Validation) -> dict:
         row.update({f"{sensor}_impact_time": measured["impact_time"], f"{sensor}_peak_row": measured["peak"],
                     f"{sensor}_quasi_static_level": float(p[window].mean())})
     return row
-
-
-def formatted(value, digits: int = 3) -> str:
-    if isinstance(value, float):
-        return "" if math.isnan(value) else f"{value:.{digits}f}"
-    return str(value)
 
 
 def markdown(rows: list[dict]) -> str:

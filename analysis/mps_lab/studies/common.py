@@ -68,6 +68,13 @@ def check_methods(wanted: list[str], registered: list[str], where: str) -> None:
                             f"{', '.join(registered)})")
 
 
+def formatted(value, digits: int = 3) -> str:
+    """A table cell: a float to `digits` decimals (NaN as empty), anything else as it is."""
+    if isinstance(value, float):
+        return "" if math.isnan(value) else f"{value:.{digits}f}"
+    return str(value)
+
+
 def write_csv(rows: list[dict], columns: list[str], path: str, nan_as_empty: bool = True) -> None:
     """Atomically (a temporary file renamed); NaN as an empty cell, or as "nan" (sweep.csv)."""
     def cell(value):

@@ -50,7 +50,7 @@ import numpy as np
 
 from mps_lab import data, runner
 from mps_lab.studies.buchner import scaled_step_bounds
-from mps_lab.studies.common import write_csv
+from mps_lab.studies.common import formatted, write_csv
 
 SCENE = "scenes/water_entry.json"
 DEFAULT_DIVISIONS = (11, 22)  # D / l0
@@ -191,12 +191,6 @@ def row_of(folder: str, extra: dict, window: float, exit_code: int | None = None
     curve = slamming_curve(run, window)
     row.update(curve_measures(curve["x"], curve["filtered"], curve["raw"], curve["buoyancy"]))
     return row
-
-
-def formatted(value, digits: int = 3) -> str:
-    if isinstance(value, float):
-        return "" if math.isnan(value) else f"{value:.{digits}f}"
-    return str(value)
 
 
 def markdown(rows: list[dict]) -> str:
