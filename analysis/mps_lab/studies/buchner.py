@@ -17,7 +17,7 @@ import math
 import os
 
 from mps_lab import data, pressure, runner
-from mps_lab.studies.common import formatted, write_csv
+from mps_lab.studies.common import formatted, write_study_tables
 
 SCENE = "scenes/dambreak_buchner.json"
 HEIGHT = 0.6  # m, H of the experiment
@@ -151,13 +151,9 @@ def study(out: str, methods: list[str], divisions: list[int], binary: str | None
             rows.append(row_of(request.folder, request.extra, validation))
             folders[(request.extra["method"], int(round(HEIGHT / request.extra["l0"])))] = request.folder
     target = docs or out
-    os.makedirs(os.path.join(target, "data"), exist_ok=True)
-    os.makedirs(os.path.join(target, "figures"), exist_ok=True)
-    write_csv(rows, COLUMNS, os.path.join(target, "data", "buchner_pressure.csv"))
-    with open(os.path.join(target, "data", "buchner_pressure.md"), "w") as handle:
-        handle.write(markdown(rows))
+    figure = write_study_tables(target, "buchner_pressure", rows, COLUMNS, markdown(rows))
     if folders:
-        plot(folders, validation, os.path.join(target, "figures", "buchner_pressure.png"), "P1")
+        plot(folders, validation, figure, "P1")
         plot(folders, validation, os.path.join(target, "figures", "buchner_pressure_p2.png"), "P2")
     print(markdown(rows))
     return 0

@@ -75,6 +75,17 @@ def formatted(value, digits: int = 3) -> str:
     return str(value)
 
 
+def write_study_tables(target: str, name: str, rows: list[dict], columns: list[str], table: str) -> str:
+    """TARGET/data/NAME.csv and TARGET/data/NAME.md (the markdown `table`); returns the path of
+    the study's figure, TARGET/figures/NAME.png (its folder made)."""
+    os.makedirs(os.path.join(target, "data"), exist_ok=True)
+    os.makedirs(os.path.join(target, "figures"), exist_ok=True)
+    write_csv(rows, columns, os.path.join(target, "data", f"{name}.csv"))
+    with open(os.path.join(target, "data", f"{name}.md"), "w") as handle:
+        handle.write(table)
+    return os.path.join(target, "figures", f"{name}.png")
+
+
 def write_csv(rows: list[dict], columns: list[str], path: str, nan_as_empty: bool = True) -> None:
     """Atomically (a temporary file renamed); NaN as an empty cell, or as "nan" (sweep.csv)."""
     def cell(value):

@@ -50,7 +50,7 @@ import numpy as np
 
 from mps_lab import data, runner
 from mps_lab.studies.buchner import scaled_step_bounds
-from mps_lab.studies.common import formatted, write_csv
+from mps_lab.studies.common import formatted, write_study_tables
 
 SCENE = "scenes/water_entry.json"
 DEFAULT_DIVISIONS = (11, 22)  # D / l0
@@ -254,13 +254,8 @@ def study(out: str, methods: list[str], divisions: list[int], binary: str | None
         rows.append(row)
         if "mean_cs" in row and request.extra["tank"] == "scene":
             folders[(request.extra["method"], request.extra["D_over_l0"])] = request.folder
-    target = docs or out
-    os.makedirs(os.path.join(target, "data"), exist_ok=True)
-    os.makedirs(os.path.join(target, "figures"), exist_ok=True)
-    write_csv(rows, COLUMNS, os.path.join(target, "data", "water_entry.csv"))
-    with open(os.path.join(target, "data", "water_entry.md"), "w") as handle:
-        handle.write(markdown(rows))
+    figure = write_study_tables(docs or out, "water_entry", rows, COLUMNS, markdown(rows))
     if folders:
-        plot(folders, window, os.path.join(target, "figures", "water_entry.png"))
+        plot(folders, window, figure)
     print(markdown(rows))
     return 0
