@@ -2,10 +2,13 @@
 """Wall pressure against Buchner 2002 (analysis/mps_lab/studies/buchner.py): arguments only.
 
     /usr/bin/python3 analysis/buchner_pressure.py --out output/buchner [--collect] [--docs docs]
+    /usr/bin/python3 analysis/buchner_pressure.py --out output/buchner_schemes --divisions 40 \
+        --schemes analysis/sweeps/pressure_schemes.json     (one method, each pressure scheme)
 """
 from __future__ import annotations
 
 import argparse
+import json
 import os
 import sys
 
@@ -26,10 +29,18 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--timeout", type=float, default=buchner.DEFAULT_TIMEOUT, help="seconds before a case stops")
     parser.add_argument("--collect", action="store_true", help="only tabulate the runs that exist")
     parser.add_argument("--docs", help="write data/buchner_pressure.{csv,md} and figures/ here (default: OUT)")
+    parser.add_argument("--schemes", help="a schemes plan (JSON with 'method' and 'schemes': name -> --set "
+                                           "assignments): run its method once per scheme instead of --methods")
     args = parser.parse_args(argv)
-    methods = args.methods or registered_methods(find_binary(args.binary))
+    schemes = None
+    if args.schemes:
+        with open(args.schemes) as handle:
+            schemes = json.load(handle)
+        methods = [schemes["method"]]
+    else:
+        methods = args.methods or registered_methods(find_binary(args.binary))
     return buchner.study(args.out, methods, args.divisions, args.binary, args.parallel, args.timeout, args.collect,
-                         args.docs)
+                         args.docs, schemes)
 
 
 if __name__ == "__main__":

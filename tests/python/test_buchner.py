@@ -124,3 +124,28 @@ class RunJsonTest(unittest.TestCase):
 
 if __name__ == "__main__":
     unittest.main()
+
+
+class SchemesPlanTest(unittest.TestCase):
+    """buchner_pressure.py --schemes: the plan's method once per scheme, with the scheme's --set
+    assignments, its own folder, and its name in the table."""
+
+    def test_one_case_per_scheme_with_its_assignments(self):
+        with open(os.path.join(ROOT, "analysis", "sweeps", "pressure_schemes.json")) as handle:
+            plan = json.load(handle)
+        cases = list(buchner.requests(SCENE, "OUT", ["ignored"], [40], plan))
+        self.assertEqual([c.name for c in cases], [f"H40/mps-{name}" for name in plan["schemes"]])
+        for case in cases:
+            scheme = case.extra["scheme"]
+            self.assertEqual(case.folder, os.path.join("OUT", "H40", f"mps-{scheme}"))
+            self.assertEqual(case.arguments[case.arguments.index("--method") + 1], "mps")
+            given = [case.arguments[k + 1] for k, a in enumerate(case.arguments) if a == "--set"]
+            for assignment in plan["schemes"][scheme]:
+                self.assertIn(assignment, given)
+        row = dict(cases[1].extra, status="completed")
+        self.assertIn("| H/40 | mps (cmps) | completed |", buchner.markdown([row]))
+
+    def test_without_a_plan_each_method_runs_with_its_defaults(self):
+        cases = list(buchner.requests(SCENE, "OUT", ["mps", "isph"], [40, 60]))
+        self.assertEqual([c.name for c in cases], ["H40/mps", "H40/isph", "H60/mps", "H60/isph"])
+        self.assertTrue(all(c.extra["scheme"] == "" for c in cases))

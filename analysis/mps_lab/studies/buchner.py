@@ -9,7 +9,12 @@ Each case differs from the scene by --set only: the spacing l0 = H/n, the time s
 `max_time_step` the scene's method blocks give scaled with l0 (the scene's are 0.08 s/m x l0;
 docs/methods/eisph.md: scale it with l0), and
 the probes' y = l0/2 + height above the bed (the bed's surface is l0/2 above y = 0). A case
-folder is OUT/H<n>/<method>; --collect reads the folders that exist and runs nothing."""
+folder is OUT/H<n>/<method>; --collect reads the folders that exist and runs nothing.
+
+With a schemes plan (analysis/sweeps/pressure_schemes.json: a method and named lists of --set
+assignments), the plan's method runs once per scheme instead, in OUT/H<n>/<method>-<scheme>,
+and the tables are buchner_pressure_schemes.{csv,md} (docs/methods/mps.md, "Pressure
+schemes")."""
 from __future__ import annotations
 
 import json
@@ -27,7 +32,7 @@ DEFAULT_DIVISIONS = (40, 60, 80)  # l0 = H / n
 DEFAULT_TIMEOUT = 4 * 3600.0  # s per case
 MEASURES = ["impact_time", "impact_time_error", "peak_step", "peak_row", "peak_row_error", "quasi_static_level",
             "quasi_static_rms"]
-COLUMNS = (["label", "l0", "method", "status", "steps", "wall_seconds"]
+COLUMNS = (["label", "l0", "method", "scheme", "status", "steps", "wall_seconds"]
            + [f"{sensor}_{measure}" for sensor in PROBES for measure in MEASURES])
 
 
@@ -44,23 +49,35 @@ def scaled_step_bounds(scene: str, l0: float) -> list[str]:
     return arguments
 
 
-def case_arguments(scene: str, method: str, divisions: int, folder: str) -> list[str]:
-    """The mps_lab arguments of one case (see the module's docstring)."""
+def case_arguments(scene: str, method: str, divisions: int, folder: str, assignments: list[str] = ()) -> list[str]:
+    """The mps_lab arguments of one case (see the module's docstring); `assignments`: a scheme's
+    --set assignments."""
     l0 = HEIGHT / divisions
     arguments = ["run", scene, "--method", method, "--out", folder, "--quiet", "--threads", "1",
                  "--set", f"particle_spacing={l0:.12g}", "--set", f"time.time_step={0.02 * l0:.12g}"]
     arguments += scaled_step_bounds(scene, l0)
     for index, height in enumerate(PROBES.values()):
         arguments += ["--set", f"diagnostics.pressure_sensors.{index}.position=[{RIGHT_WALL_X},{l0 / 2 + height:.12g}]"]
+    for assignment in assignments:
+        arguments += ["--set", assignment]
     return arguments
 
 
-def requests(scene: str, out: str, methods: list[str], divisions: list[int]):
+def variants(methods: list[str], schemes: dict | None) -> list[tuple[str, str, list[str]]]:
+    """(method, scheme, assignments) of every run at one spacing: each method with its defaults
+    (scheme ""), or the schemes plan's method once per scheme."""
+    if schemes is None:
+        return [(method, "", []) for method in methods]
+    return [(schemes["method"], name, list(assignments)) for name, assignments in schemes["schemes"].items()]
+
+
+def requests(scene: str, out: str, methods: list[str], divisions: list[int], schemes: dict | None = None):
     for n in divisions:
-        for method in methods:
-            folder = os.path.join(out, f"H{n}", method)
-            yield runner.CaseRequest(f"H{n}/{method}", case_arguments(scene, method, n, folder), folder,
-                                     {"label": f"H/{n}", "l0": HEIGHT / n, "method": method})
+        for method, scheme, assignments in variants(methods, schemes):
+            name = f"{method}-{scheme}" if scheme else method
+            folder = os.path.join(out, f"H{n}", name)
+            yield runner.CaseRequest(f"H{n}/{name}", case_arguments(scene, method, n, folder, assignments), folder,
+                                     {"label": f"H/{n}", "l0": HEIGHT / n, "method": method, "scheme": scheme})
 
 
 def row_of(folder: str, extra: dict, validation: pressure.Validation) -> dict:
@@ -101,15 +118,16 @@ def markdown(rows: list[dict]) -> str:
             return text + (f" ({error:+.2f})" if math.isfinite(error) else "")
 
         peak = (cell("P1", "peak_step") + " / " if "P1_peak_step" in r else "") + cell("P1", "peak_row")
-        lines.append(f"| {r['label']} | {r['method']} | {r['status']} | {r.get('steps', '')} | "
+        method = r["method"] + (f" ({r['scheme']})" if r.get("scheme") else "")
+        lines.append(f"| {r['label']} | {method} | {r['status']} | {r.get('steps', '')} | "
                      f"{impact('P1')} | {peak} | {cell('P1', 'quasi_static_level')} | {cell('P1', 'quasi_static_rms')} | "
                      f"{impact('P2')} | {cell('P2', 'peak_row')} | {cell('P2', 'quasi_static_rms')} |")
     return "\n".join(lines) + "\n"
 
 
 def plot(folders: dict, validation: pressure.Validation, path: str, sensor: str = "P1") -> None:
-    """Each method's sensor history (row means) at every spacing over the experiment, one panel
-    per method; folders: {(method, n): folder}."""
+    """Each method's (or scheme's) sensor history (row means) at every spacing over the
+    experiment, one panel per method; folders: {(method, n): folder}."""
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
@@ -135,12 +153,13 @@ def plot(folders: dict, validation: pressure.Validation, path: str, sensor: str 
 
 
 def study(out: str, methods: list[str], divisions: list[int], binary: str | None, parallel: int, timeout: float,
-          collect: bool, docs: str | None) -> int:
-    """Run (unless collect) and tabulate; docs: the folder of docs/data and docs/figures to write."""
+          collect: bool, docs: str | None, schemes: dict | None = None) -> int:
+    """Run (unless collect) and tabulate; docs: the folder of docs/data and docs/figures to write;
+    schemes: a schemes plan (the module's docstring) or None."""
     from mps_lab import SOURCE_ROOT
     scene = os.path.join(SOURCE_ROOT, SCENE)
     validation = pressure.scene_validation(scene)
-    cases = list(requests(scene, out, methods, divisions))
+    cases = list(requests(scene, out, methods, divisions, schemes))
     if not collect:
         for request, result in runner.run_cases(runner.find_binary(binary), cases, parallel=parallel,
                                                 timeout=timeout, threads=1):
@@ -149,11 +168,13 @@ def study(out: str, methods: list[str], divisions: list[int], binary: str | None
     for request in cases:
         if os.path.isfile(os.path.join(request.folder, "run.json")):
             rows.append(row_of(request.folder, request.extra, validation))
-            folders[(request.extra["method"], int(round(HEIGHT / request.extra["l0"])))] = request.folder
+            label = request.extra["method"] + (f" ({request.extra['scheme']})" if request.extra["scheme"] else "")
+            folders[(label, int(round(HEIGHT / request.extra["l0"])))] = request.folder
     target = docs or out
-    figure = write_study_tables(target, "buchner_pressure", rows, COLUMNS, markdown(rows))
+    name = "buchner_pressure_schemes" if schemes else "buchner_pressure"
+    figure = write_study_tables(target, name, rows, COLUMNS, markdown(rows))
     if folders:
         plot(folders, validation, figure, "P1")
-        plot(folders, validation, os.path.join(target, "figures", "buchner_pressure_p2.png"), "P2")
+        plot(folders, validation, os.path.join(target, "figures", f"{name}_p2.png"), "P2")
     print(markdown(rows))
     return 0
