@@ -4,6 +4,7 @@
 // bodies alone when the fluid load is zero, and resume bit for bit with a body.
 #include <catch2/catch.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <memory>
 
@@ -13,6 +14,7 @@
 #include "core/io/geometry.hpp"
 #include "core/run/driver.hpp"
 #include "core/walls/obstacle_membership.hpp"
+#include "core/walls/wall_geometry.hpp"
 #include "support.hpp"
 
 using namespace mps_lab;
@@ -373,6 +375,46 @@ TEST_CASE("contact: a box body dropped on the bed comes to rest on two corner sp
   CHECK(s.velocity.norm() < 1e-6);
   CHECK(std::fabs(s.angle) < 1e-9);  // symmetric: no rocking
   CHECK(0.01 + 0.06 - s.position.y() == Approx(overlap).epsilon(0.01));
+  CHECK(s.position.x() == Approx(0.9).epsilon(1e-9));
+}
+
+TEST_CASE("contact: the fixed walls' convex vertices - a wedge's apex and the open tank's rims only",
+          "[bodies][contact]") {
+  // The disc scene's tank (bottom, left and right sides, open top at 1.0 m; surfaces 0.01 m
+  // inside the domain) with a triangle standing on the bed, apex (0.9, 0.3). Convex: the apex
+  // and the two rims (x = 0.01 and 1.99 at the open top). Concave: the tank's lower corners and
+  // the triangle's base corners on the bed (more than half of the solid around them).
+  const Scene scene =
+      load("disc_on_slope.json", {"walls.obstacles=[{\"polygon\": [[0.8, 0.01], [1.0, 0.01], [0.9, 0.3]]}]"});
+  std::vector<Vec2> apexes = convex_wall_vertices(WallGeometry(scene), scene.particle_spacing);
+  std::sort(apexes.begin(), apexes.end(), [](const Vec2& p, const Vec2& q) { return p.x() < q.x(); });
+  REQUIRE(apexes.size() == 3);
+  CHECK(apexes[0].isApprox(Vec2(0.01, 1.0)));
+  CHECK(apexes[1].isApprox(Vec2(0.9, 0.3)));
+  CHECK(apexes[2].isApprox(Vec2(1.99, 1.0)));
+}
+
+TEST_CASE("contact: a box body dropped on a wedge's apex rests on it - one spring under its centre",
+          "[bodies][contact]") {
+  // The box of the case above (surface 0.22 x 0.12 m, m = 13.2 kg/m, centre (0.9, 0.45)) falls
+  // 0.09 m onto the apex (0.9, 0.3) of a fixed triangle. No vertex of the box meets a wall: only
+  // the apex inside its bottom face holds it, a single spring under the centre (no torque), so
+  // it rests with its bottom face m g / k_n = 129.5 um below the apex. (Without the apex as a
+  // contact partner the box falls through the wedge to the bed.) One spring: period 23 ms, zeta
+  // 0.3; 1 s leaves it at rest.
+  const Scene scene =
+      load("disc_on_slope.json", {"walls.obstacles=[{\"polygon\": [[0.8, 0.01], [1.0, 0.01], [0.9, 0.3]]}, "
+                                  "{\"min\": [0.8, 0.4], \"max\": [1.0, 0.5], \"body\": {\"density\": 500}}]"});
+  RigidBodies bodies(scene);
+  REQUIRE(bodies.size() == 1);
+  const ObstacleLoads no_fluid;
+  for (int step = 0; step < 2000; ++step) bodies.advance(5e-4, no_fluid);
+  const BodyState& s = bodies.state(0);
+  const double overlap = 500.0 * 0.22 * 0.12 * 9.81 / scene.contact.stiffness;
+  INFO("centre " << s.position.transpose() << " velocity " << s.velocity.transpose() << " angle " << s.angle);
+  CHECK(s.velocity.norm() < 1e-6);
+  CHECK(std::fabs(s.angle) < 1e-9);
+  CHECK(0.3 + 0.06 - s.position.y() == Approx(overlap).epsilon(0.01));
   CHECK(s.position.x() == Approx(0.9).epsilon(1e-9));
 }
 

@@ -66,7 +66,9 @@ RigidBodies::RigidBodies(const Scene& scene) : contact_(scene.contact), gravity_
     bodies_.push_back(body);
   }
   if (bodies_.empty()) return;
-  walls_ = WallGeometry(scene).segments();  // moving obstacles and bodies are not part of it
+  const WallGeometry geometry(scene);  // moving obstacles and bodies are not part of it
+  walls_ = geometry.segments();
+  fixed_apexes_ = convex_wall_vertices(geometry, scene.particle_spacing);
   contact_step_ = kTwoPi * std::sqrt(lightest / contact_.stiffness) / contact_.steps_per_period;
 }
 
@@ -146,6 +148,28 @@ void RigidBodies::find_contacts(std::vector<Contact>& contacts) const {
 // Body a against the fixed wall surfaces: a circle against each segment (its closest point),
 // a polygon's vertices behind a segment (less than half the body's reach behind it: deeper
 // points are on the far side of a thin wall) and within its length.
+// The end points of the fixed wall surfaces where the solid is convex (a wedge's apex, a
+// plate's end, an open tank's rim): probed on a circle of radius 1e-3 l0 around the point,
+// fewer than half of 16 probes lie inside a solid (core/walls/wall_geometry.hpp, inside_solid).
+// A concave corner (the tank's, an obstacle standing on the bed) has more than half.
+std::vector<Vec2> convex_wall_vertices(const WallGeometry& geometry, double spacing) {
+  constexpr int kProbes = 16;
+  std::vector<Vec2> apexes;
+  for (const WallSegment& segment : geometry.segments()) {
+    for (const Vec2& p : {segment.a, segment.b}) {
+      const bool known =
+          std::any_of(apexes.begin(), apexes.end(), [&](const Vec2& q) { return (q - p).norm() <= 1e-9 * spacing; });
+      int solid = 0;
+      for (int k = 0; k < kProbes; ++k) {
+        const double angle = kTwoPi * (k + 0.5) / kProbes;  // never along an axis-aligned edge
+        solid += geometry.inside_solid(p + 1e-3 * spacing * Vec2(std::cos(angle), std::sin(angle))) ? 1 : 0;
+      }
+      if (!known && 2 * solid < kProbes) apexes.push_back(p);
+    }
+  }
+  return apexes;
+}
+
 void RigidBodies::wall_contacts(int a, std::vector<Contact>& contacts) const {
   const Body& body = bodies_[a];
   const Polygon shape = body.radius > 0.0 ? Polygon{} : current_shape(body);
@@ -167,6 +191,20 @@ void RigidBodies::wall_contacts(int a, std::vector<Contact>& contacts) const {
       contacts.push_back(
           {a, -1, shape[v], wall.normal, behind, {a, -1, static_cast<std::int64_t>(s), static_cast<std::int64_t>(v)}});
     }
+  }
+  if (body.radius > 0.0) return;
+  // A fixed convex vertex inside the polygon: pushed out along the body's nearest edge.
+  for (std::size_t k = 0; k < fixed_apexes_.size(); ++k) {
+    const Vec2& apex = fixed_apexes_[k];
+    if ((apex - body.state.position).norm() >= body.reach || !inside_polygon(apex, shape)) continue;
+    std::size_t edge = 0;
+    const double depth = distance_to_polygon(apex, shape, &edge);
+    contacts.push_back({a,
+                        -1,
+                        apex,
+                        -outward_normal(shape, edge),
+                        depth,
+                        {a, -2, static_cast<std::int64_t>(k), static_cast<std::int64_t>(edge)}});
   }
 }
 

@@ -23,8 +23,9 @@
 //
 // Contacts: a body with the fixed wall surfaces (core/walls/wall_geometry.hpp: tank sides and
 // fixed obstacles, polygons and slopes included), circle-segment and polygon vertex-segment; and
-// between bodies circle-circle, circle-polygon and polygon vertex inside polygon. Not yet: a
-// fixed polygon's vertex against a body's edge (a wedge's apex into a box body's face).
+// between bodies circle-circle, circle-polygon and polygon vertex inside polygon; and a convex
+// vertex of the fixed walls (a wedge's apex) inside a polygon body, pushed out along the body's
+// nearest edge (a circle meets such a vertex as the closest point of its segments).
 //
 // Sub-steps: the body takes n = ceil(dt / h_c) sub-steps per fluid step, h_c = T_c / N with
 // T_c = 2 pi sqrt(m_c / k_n) the contact period of the lightest body (m_c = m I / (I + m rho^2),
@@ -46,6 +47,10 @@ namespace mps_lab {
 
 class CheckpointWriter;
 class CheckpointReader;
+
+// The end points of the fixed wall surfaces where the solid is convex (a wedge's apex, a plate's
+// end, an open tank's rim), each once: the partners of a polygon body's edges in contact.
+std::vector<Vec2> convex_wall_vertices(const WallGeometry& geometry, double spacing);
 
 struct BodyState {
   Vec2 position = Vec2::Zero();       // centre of mass x_c, m
@@ -107,6 +112,7 @@ class RigidBodies {
 
   std::vector<Body> bodies_;
   std::vector<WallSegment> walls_;  // the fixed wall surfaces
+  std::vector<Vec2> fixed_apexes_;  // their convex vertices (convex_wall_vertices), m
   ContactControl contact_;
   Vec2 gravity_ = Vec2::Zero();
   double contact_step_ = 0.0;                              // h_c, s
