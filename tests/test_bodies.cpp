@@ -418,6 +418,38 @@ TEST_CASE("contact: a box body dropped on a wedge's apex rests on it - one sprin
   CHECK(s.position.x() == Approx(0.9).epsilon(1e-9));
 }
 
+TEST_CASE("contact: a paddle moved by its law pushes a box body along the bed at the paddle's speed",
+          "[bodies][contact][moving]") {
+  // A paddle (surface x 0.19 .. 0.27 m, y 0.03 .. 0.21 m: 2 cm above the bed) moved by
+  // constant_velocity 0.2 m/s, and the box body of the cases above (surface 0.39 .. 0.61 m on
+  // the bed, m = 13.2 kg/m, friction 0.3 with the bed). The paddle is a contact partner of
+  // infinite mass: it reaches the box at t = 0.12 / 0.2 = 0.6 s and pushes it against the bed's
+  // Coulomb friction, mu m g = 38.8 N/m, on two springs (its corner in the box's face, the box's
+  // corner in its face) compressed by mu m g / (2 k_n) = 19 um. Before: the box rests. After
+  // 0.9 s of pushing (the contact's period 23 ms, zeta 0.3): it moves at the paddle's speed, its
+  // face within 0.1 mm of the paddle's. Without the paddle as a partner it would pass through.
+  const Scene scene =
+      load("disc_on_slope.json", {"walls.obstacles=[{\"min\": [0.2, 0.04], \"max\": [0.26, 0.2], \"motion\": "
+                                  "{\"law\": \"constant_velocity\", \"velocity\": [0.2, 0.0]}}, "
+                                  "{\"min\": [0.4, 0.02], \"max\": [0.6, 0.12], \"body\": {\"density\": 500}}]"});
+  RigidBodies bodies(scene);
+  REQUIRE(bodies.size() == 1);
+  const ObstacleLoads no_fluid;
+  const double dt = 5e-4;
+  for (int step = 0; step < 1000; ++step) bodies.advance(dt, no_fluid);  // to 0.5 s
+  CHECK(bodies.state(0).velocity.norm() < 1e-6);
+  CHECK(bodies.state(0).position.x() == Approx(0.5).epsilon(1e-9));
+  for (int step = 1000; step < 3000; ++step) bodies.advance(dt, no_fluid);  // to 1.5 s
+  const BodyState& s = bodies.state(0);
+  const double paddle_face = 0.27 + 0.2 * 1.5;  // m
+  INFO("centre " << s.position.transpose() << " velocity " << s.velocity.transpose() << " angle " << s.angle);
+  CHECK(s.velocity.x() == Approx(0.2).epsilon(1e-3));
+  CHECK(std::fabs(s.velocity.y()) < 1e-4);
+  const double gap = s.position.x() - 0.11 - paddle_face;  // the box's face behind the paddle's: < 0
+  CHECK(gap < 0.0);
+  CHECK(gap > -1e-4);
+}
+
 TEST_CASE("moving walls: a rotating pose moves a body's wall particles rigidly - x u and a by hand",
           "[bodies][moving]") {
   // MovingWalls with a pose (d, theta, u_c, omega, a_c, alpha): each member of the box body at

@@ -41,35 +41,70 @@ RigidBodies::RigidBodies(const Scene& scene) : contact_(scene.contact), gravity_
   double lightest = std::numeric_limits<double>::infinity();  // m I / (I + m rho^2), kg/m
   for (std::size_t k = 0; k < walls.obstacles.size(); ++k) {
     if (!walls.is_body(k)) continue;
-    Body body;
-    body.obstacle = k;
-    const double density = walls.bodies[k].density;
-    if (walls.is_circle(k)) {
-      body.radius = walls.circles[k].radius;
-      body.mass = circle_mass_properties(walls.circles[k].centre, body.radius, density);
-      body.reach = body.radius;
-    } else {
-      const Polygon surface =
-          walls.is_polygon(k) ? walls.polygons[k] : box_surface(walls.obstacles[k], scene.particle_spacing);
-      body.mass = polygon_mass_properties(surface, density);
-      for (const Vec2& vertex : surface) {
-        body.shape.push_back(vertex - body.mass.centroid);
-        body.reach = std::max(body.reach, body.shape.back().norm());
-      }
-    }
-    body.initial = body.mass.centroid;
-    body.state.position = body.mass.centroid;
+    Body body = shaped_body(scene, k, walls.bodies[k].density);
     body.state.velocity = walls.bodies[k].velocity;
     body.state.angular_velocity = walls.bodies[k].angular_velocity;
     const MassProperties& p = body.mass;
     lightest = std::min(lightest, p.mass * p.inertia / (p.inertia + p.mass * body.reach * body.reach));
     bodies_.push_back(body);
   }
+  dynamic_count_ = bodies_.size();
   if (bodies_.empty()) return;
   const WallGeometry geometry(scene);  // moving obstacles and bodies are not part of it
   walls_ = geometry.segments();
   fixed_apexes_ = convex_wall_vertices(geometry, scene.particle_spacing);
+  add_kinematic_partners(scene);
   contact_step_ = kTwoPi * std::sqrt(lightest / contact_.stiffness) / contact_.steps_per_period;
+}
+
+// Obstacle k as a body of `density` (kg/m^3) at rest where the scene puts it: a circle, or a
+// polygon (a box's surface is the box grown by l0/2) relative to its centre of mass.
+RigidBodies::Body RigidBodies::shaped_body(const Scene& scene, std::size_t k, double density) const {
+  const TankWalls& walls = scene.walls;
+  Body body;
+  body.obstacle = k;
+  if (walls.is_circle(k)) {
+    body.radius = walls.circles[k].radius;
+    body.mass = circle_mass_properties(walls.circles[k].centre, body.radius, density);
+    body.reach = body.radius;
+  } else {
+    const Polygon surface =
+        walls.is_polygon(k) ? walls.polygons[k] : box_surface(walls.obstacles[k], scene.particle_spacing);
+    body.mass = polygon_mass_properties(surface, density);
+    for (const Vec2& vertex : surface) {
+      body.shape.push_back(vertex - body.mass.centroid);
+      body.reach = std::max(body.reach, body.shape.back().norm());
+    }
+  }
+  body.initial = body.mass.centroid;
+  body.state.position = body.mass.centroid;
+  return body;
+}
+
+// The obstacles moved by a motion law, after the bodies: contact partners of infinite mass
+// (a paddle pushing a box). Their reference point is the surface's area centroid, as the
+// laws' (core/walls/moving_walls.hpp).
+void RigidBodies::add_kinematic_partners(const Scene& scene) {
+  const TankWalls& walls = scene.walls;
+  for (std::size_t k = 0; k < walls.obstacles.size(); ++k) {
+    if (walls.is_body(k) || k >= walls.motions.size() || !walls.motions[k].moves()) continue;
+    Body partner = shaped_body(scene, k, 1.0);  // the density only scales the unused mass
+    partner.kinematic = true;
+    partner.motion = walls.motions[k];
+    bodies_.push_back(partner);
+  }
+  follow_laws(time_);
+}
+
+// The kinematic partners to their laws' poses at time t (s): a translation, theta = 0.
+void RigidBodies::follow_laws(double t) {
+  for (std::size_t b = dynamic_count_; b < bodies_.size(); ++b) {
+    Body& partner = bodies_[b];
+    const RigidPose pose = law_pose(partner.motion, t);
+    partner.state.position = partner.initial + pose.displacement;
+    partner.state.velocity = pose.velocity;
+    partner.state.acceleration = pose.acceleration;
+  }
 }
 
 int RigidBodies::sub_steps(double dt) const {
@@ -81,7 +116,7 @@ void RigidBodies::advance(double dt, const ObstacleLoads& fluid) {
   if (bodies_.empty()) return;
   std::vector<Vec2> fluid_force(bodies_.size(), Vec2::Zero());
   std::vector<double> fluid_torque(bodies_.size(), 0.0);
-  for (std::size_t b = 0; b < bodies_.size(); ++b) {
+  for (std::size_t b = 0; b < dynamic_count_; ++b) {
     const std::size_t k = bodies_[b].obstacle;
     if (k >= fluid.size()) continue;
     fluid_force[b] = fluid.force[k];
@@ -95,7 +130,12 @@ void RigidBodies::advance(double dt, const ObstacleLoads& fluid) {
   }
   const int n = sub_steps(dt);
   const double h = dt / n;
-  for (int s = 0; s < n; ++s) sub_step(h, fluid_force, fluid_torque);
+  for (int s = 0; s < n; ++s) {
+    follow_laws(time_ + s * h);
+    sub_step(h, fluid_force, fluid_torque);
+  }
+  time_ += dt;
+  follow_laws(time_);
   for (Body& body : bodies_) {  // the sub-steps summed h F: the mean over the step
     body.state.force /= static_cast<double>(n);
     body.state.torque /= static_cast<double>(n);
@@ -112,7 +152,7 @@ void RigidBodies::sub_step(double h, const std::vector<Vec2>& fluid_force, const
   std::map<std::array<std::int64_t, 4>, double> springs;  // the contacts of this sub-step only
   for (const Contact& c : contacts) apply_contact(c, h, force, torque, springs);
   springs_ = std::move(springs);
-  for (std::size_t b = 0; b < bodies_.size(); ++b) {
+  for (std::size_t b = 0; b < dynamic_count_; ++b) {
     BodyState& s = bodies_[b].state;
     s.acceleration = force[b] / bodies_[b].mass.mass + gravity_;
     s.angular_acceleration = torque[b] / bodies_[b].mass.inertia;
@@ -138,7 +178,7 @@ Vec2 RigidBodies::point_velocity(int b, const Vec2& x) const {
 }
 
 void RigidBodies::find_contacts(std::vector<Contact>& contacts) const {
-  for (std::size_t a = 0; a < bodies_.size(); ++a) {
+  for (std::size_t a = 0; a < dynamic_count_; ++a) {  // the kinematic partners come last
     wall_contacts(static_cast<int>(a), contacts);
     for (std::size_t b = a + 1; b < bodies_.size(); ++b)
       body_contacts(static_cast<int>(a), static_cast<int>(b), contacts);
@@ -254,7 +294,8 @@ void RigidBodies::body_contacts(int a, int b, std::vector<Contact>& contacts) co
 void RigidBodies::apply_contact(const Contact& c, double h, std::vector<Vec2>& force, std::vector<double>& torque,
                                 std::map<std::array<std::int64_t, 4>, double>& springs) const {
   const double ma = bodies_[c.a].mass.mass;
-  const double m_eff = c.b < 0 ? ma : ma * bodies_[c.b].mass.mass / (ma + bodies_[c.b].mass.mass);
+  const bool partner_moves_freely = c.b >= 0 && !bodies_[c.b].kinematic;  // else a wall or a law
+  const double m_eff = partner_moves_freely ? ma * bodies_[c.b].mass.mass / (ma + bodies_[c.b].mass.mass) : ma;
   const double k_n = contact_.stiffness, k_t = contact_.tangential_stiffness * k_n;
   const double c_n = 2.0 * contact_.damping_ratio * std::sqrt(m_eff * k_n);
   const double c_t = 2.0 * contact_.damping_ratio * std::sqrt(m_eff * k_t);
@@ -274,14 +315,15 @@ void RigidBodies::apply_contact(const Contact& c, double h, std::vector<Vec2>& f
   const Vec2 f = f_n * c.normal + f_t * t;
   force[c.a] += f;
   torque[c.a] += cross(c.point - bodies_[c.a].state.position, f);
-  if (c.b >= 0) {
+  if (partner_moves_freely) {
     force[c.b] -= f;
     torque[c.b] -= cross(c.point - bodies_[c.b].state.position, f);
   }
 }
 
 void RigidBodies::set_poses(std::vector<RigidPose>& poses) const {
-  for (const Body& body : bodies_) {
+  for (std::size_t b = 0; b < dynamic_count_; ++b) {  // the kinematic partners follow their laws
+    const Body& body = bodies_[b];
     RigidPose& pose = poses[body.obstacle];
     pose.displacement = body.state.position - body.initial;
     pose.angle = body.state.angle;
@@ -304,7 +346,8 @@ std::vector<std::string> RigidBodies::series_columns(const Scene& scene) {
 }
 
 void RigidBodies::append_series(std::vector<double>& row) const {
-  for (const Body& body : bodies_) {
+  for (std::size_t b = 0; b < dynamic_count_; ++b) {  // the kinematic partners follow their laws
+    const Body& body = bodies_[b];
     const BodyState& s = body.state;
     row.insert(row.end(), {s.position.x(), s.position.y(), s.angle, s.velocity.x(), s.velocity.y(), s.angular_velocity,
                            s.force.x(), s.force.y(), s.torque});
@@ -312,8 +355,10 @@ void RigidBodies::append_series(std::vector<double>& row) const {
 }
 
 void RigidBodies::save(CheckpointWriter& out) const {
-  out.write_size(bodies_.size());
-  for (const Body& body : bodies_) {
+  out.write_double(time_);
+  out.write_size(dynamic_count_);
+  for (std::size_t b = 0; b < dynamic_count_; ++b) {  // the kinematic partners follow their laws
+    const Body& body = bodies_[b];
     const BodyState& s = body.state;
     out.write_vec2s({s.position, s.velocity, s.acceleration, s.force});
     out.write_doubles({s.angle, s.angular_velocity, s.angular_acceleration, s.torque});
@@ -326,8 +371,11 @@ void RigidBodies::save(CheckpointWriter& out) const {
 }
 
 void RigidBodies::restore(CheckpointReader& in) {
-  if (in.read_size() != bodies_.size()) in.fail("a checkpoint with another number of rigid bodies than the scene's");
-  for (Body& body : bodies_) {
+  time_ = in.read_double();
+  follow_laws(time_);
+  if (in.read_size() != dynamic_count_) in.fail("a checkpoint with another number of rigid bodies than the scene's");
+  for (std::size_t b = 0; b < dynamic_count_; ++b) {
+    Body& body = bodies_[b];
     BodyState& s = body.state;
     const std::vector<Vec2> vectors = in.read_vec2s();
     const std::vector<double> scalars = in.read_doubles();

@@ -25,7 +25,8 @@
 // fixed obstacles, polygons and slopes included), circle-segment and polygon vertex-segment; and
 // between bodies circle-circle, circle-polygon and polygon vertex inside polygon; and a convex
 // vertex of the fixed walls (a wedge's apex) inside a polygon body, pushed out along the body's
-// nearest edge (a circle meets such a vertex as the closest point of its segments).
+// nearest edge (a circle meets such a vertex as the closest point of its segments); and an
+// obstacle moved by a motion law as a partner of infinite mass at its law's pose (a paddle).
 //
 // Sub-steps: the body takes n = ceil(dt / h_c) sub-steps per fluid step, h_c = T_c / N with
 // T_c = 2 pi sqrt(m_c / k_n) the contact period of the lightest body (m_c = m I / (I + m rho^2),
@@ -66,8 +67,8 @@ struct BodyState {
 class RigidBodies {
  public:
   explicit RigidBodies(const Scene& scene);
-  bool empty() const { return bodies_.empty(); }
-  std::size_t size() const { return bodies_.size(); }
+  bool empty() const { return dynamic_count_ == 0; }
+  std::size_t size() const { return dynamic_count_; }  // the rigid bodies (not the kinematic partners)
   std::size_t obstacle(std::size_t b) const { return bodies_[b].obstacle; }  // walls.obstacles[k]
   const MassProperties& mass(std::size_t b) const { return bodies_[b].mass; }
   const BodyState& state(std::size_t b) const { return bodies_[b].state; }
@@ -92,6 +93,10 @@ class RigidBodies {
     double reach = 0.0;           // farthest surface point from the centre of mass, m
     Vec2 initial = Vec2::Zero();  // the centre of mass where the scene puts it, m
     BodyState state;
+    // A moving obstacle with a motion law (walls.obstacles[k].motion): a contact partner of
+    // infinite mass whose state is the law's pose; not integrated, no load of its own.
+    bool kinematic = false;
+    WallMotion motion;
   };
   // One contact point: the normal force on body `a` is along `normal`, on `b` (-1: a fixed wall) opposite.
   struct Contact {
@@ -102,6 +107,9 @@ class RigidBodies {
     std::array<std::int64_t, 4> key{};  // identifies the contact from step to step (its spring)
   };
   void sub_step(double h, const std::vector<Vec2>& fluid_force, const std::vector<double>& fluid_torque);
+  Body shaped_body(const Scene& scene, std::size_t k, double density) const;
+  void add_kinematic_partners(const Scene& scene);
+  void follow_laws(double t);
   void find_contacts(std::vector<Contact>& contacts) const;
   void wall_contacts(int a, std::vector<Contact>& contacts) const;
   void body_contacts(int a, int b, std::vector<Contact>& contacts) const;
@@ -110,7 +118,9 @@ class RigidBodies {
   void apply_contact(const Contact& c, double h, std::vector<Vec2>& force, std::vector<double>& torque,
                      std::map<std::array<std::int64_t, 4>, double>& springs) const;
 
-  std::vector<Body> bodies_;
+  std::vector<Body> bodies_;  // the rigid bodies, then the kinematic partners (from dynamic_count_ on)
+  std::size_t dynamic_count_ = 0;
+  double time_ = 0.0;               // s, the time of the bodies' state (the motion laws' clock)
   std::vector<WallSegment> walls_;  // the fixed wall surfaces
   std::vector<Vec2> fixed_apexes_;  // their convex vertices (convex_wall_vertices), m
   ContactControl contact_;
