@@ -52,6 +52,27 @@ TEST_CASE("mps_lab run with --out - --set and --end-time", "[cli]") {
   CHECK(std::filesystem::exists(out / "output_000100.vtk"));
 }
 
+TEST_CASE("mps_lab bounds the OpenMP spin unless the user chose - and run.json records it", "[cli][threads]") {
+  // app/main.cpp: GOMP_SPINCOUNT=10000 when neither GOMP_SPINCOUNT nor OMP_WAIT_POLICY is set
+  // (docs/performance.md, "Threads that never hurt"); a value the user set is kept.
+  const auto ran = [](const std::string& environment, const std::string& tag) {
+    const auto out = fresh_directory("cli_spin_" + tag);
+    const std::string command = "env -u GOMP_SPINCOUNT -u OMP_WAIT_POLICY " + environment + " " +
+                                std::string(MPS_LAB_BINARY) + " run --method=mps " + scene_path("dambreak.json") +
+                                " --quiet --end-time 0.005 --out " + out.string() + " > /dev/null 2>&1";
+    REQUIRE(std::system(command.c_str()) == 0);
+    return nlohmann::json::parse(read_text(out / "run.json"))["threads_used"];
+  };
+  const auto bounded = ran("", "default");
+  CHECK(bounded["gomp_spincount"] == "10000");
+  CHECK(bounded["omp_wait_policy"] == "unset");
+  const auto chosen = ran("GOMP_SPINCOUNT=300000", "chosen");
+  CHECK(chosen["gomp_spincount"] == "300000");
+  const auto passive = ran("OMP_WAIT_POLICY=PASSIVE", "passive");
+  CHECK(passive["gomp_spincount"] == "libgomp default");
+  CHECK(passive["omp_wait_policy"] == "PASSIVE");
+}
+
 TEST_CASE("bad input: one line naming the problem - non-zero exit - nothing run", "[cli][input]") {
   const auto dir = fresh_directory("cli_bad_input");
   write_text(dir / "truncated.json", R"({"domain": {"min": [0, 0], "max": [1, 0.6]}, "fluid_bl)");

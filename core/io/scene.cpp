@@ -678,8 +678,9 @@ void read_fluid_blocks(const nlohmann::json& document, const std::string& source
     throw_input_error(source, "fluid_blocks", "missing; expected an array of {min, max} blocks");
   }
   const auto& fluid = document.at("fluid_blocks");
-  if (!fluid.is_array() || fluid.empty()) {
-    throw_input_error(source, "fluid_blocks", "got " + describe_json(fluid) + ", expected a non-empty array of blocks");
+  if (!fluid.is_array()) {
+    throw_input_error(source, "fluid_blocks",
+                      "got " + describe_json(fluid) + ", expected an array of blocks (empty: no fluid)");
   }
   for (std::size_t k = 0; k < fluid.size(); ++k) {
     const std::string path = "fluid_blocks[" + std::to_string(k) + "]";

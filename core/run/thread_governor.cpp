@@ -1,5 +1,7 @@
 #include "core/run/thread_governor.hpp"
 
+#include <cstdlib>
+
 #include <omp.h>
 
 #include <algorithm>
@@ -58,6 +60,11 @@ nlohmann::json ThreadGovernor::summary() const {
   nlohmann::json summary = {{"policy", settings_.fixed_threads > 0 ? "fixed" : "measured"},
                             {"max_threads", settings_.max_threads},
                             {"steps_by_team", steps}};
+  // How waiting threads wait (app/main.cpp sets a bounded spin unless the user chose).
+  const char* spin = std::getenv("GOMP_SPINCOUNT");
+  const char* policy = std::getenv("OMP_WAIT_POLICY");
+  summary["gomp_spincount"] = spin != nullptr ? spin : "libgomp default";
+  summary["omp_wait_policy"] = policy != nullptr ? policy : "unset";
   if (settings_.fixed_threads == 0 && settings_.max_threads > 1) {
     summary["choices"] = choices_;
     summary["period_steps"] = settings_.period_steps;
