@@ -103,7 +103,9 @@ TEST_CASE("scene validation names the file and the key", "[scene][input]") {
   CHECK_THAT(error_of({"output.frame_every_steps=0"}), Catch::Contains("output.frame_every_steps: got 0"));
   CHECK_THAT(error_of({"physics.gravity=[0]"}), Catch::Contains("physics.gravity: got [0], expected an array of two"));
   CHECK_THAT(error_of({"time.end_time=1e-5"}), Catch::Contains("time.time_step"));
-  CHECK_THAT(error_of({"fluid_blocks=[]"}), Catch::Contains("fluid_blocks: got [], expected a non-empty array"));
+  CHECK_THAT(error_of({"fluid_blocks=[]"}),
+             Catch::Contains(
+                 "fluid_blocks: got [], expected a non-empty array of blocks (or [] in a scene with a rigid body"));
 }
 
 TEST_CASE("overrides set nested keys and defaults come from the spec", "[scene]") {

@@ -678,9 +678,14 @@ void read_fluid_blocks(const nlohmann::json& document, const std::string& source
     throw_input_error(source, "fluid_blocks", "missing; expected an array of {min, max} blocks");
   }
   const auto& fluid = document.at("fluid_blocks");
-  if (!fluid.is_array()) {
-    throw_input_error(source, "fluid_blocks",
-                      "got " + describe_json(fluid) + ", expected an array of blocks (empty: no fluid)");
+  // No fluid is a scene of bodies alone (a disc on a slope): it needs a rigid body to move.
+  bool has_body = false;
+  for (std::size_t k = 0; k < scene.walls.obstacles.size(); ++k) has_body = has_body || scene.walls.is_body(k);
+  if (!fluid.is_array() || (fluid.empty() && !has_body)) {
+    throw_input_error(
+        source, "fluid_blocks",
+        "got " + describe_json(fluid) +
+            ", expected a non-empty array of blocks (or [] in a scene with a rigid body: walls.obstacles[k].body)");
   }
   for (std::size_t k = 0; k < fluid.size(); ++k) {
     const std::string path = "fluid_blocks[" + std::to_string(k) + "]";
