@@ -7,10 +7,7 @@
 //               [--steps N] [--warmup-steps N] [--start-time T] [--json FILE]
 //   mps_lab methods [--parameters]
 #include <cstdio>
-#include <cstdlib>
 #include <exception>
-
-#include <unistd.h>
 
 #include <CLI/CLI.hpp>
 
@@ -19,25 +16,6 @@
 #include "lab/data_directory.hpp"
 
 namespace {
-
-// Waiting OpenMP threads spin for a bounded time, then sleep (issue 17: threads that never
-// hurt). libgomp's default spin (GOMP_SPINCOUNT 300000 when OMP_WAIT_POLICY is unset) lets a
-// thread whose partner lost its core burn whole time slices at every barrier; measured on the
-// 2-core machine beside two CPU-bound processes, the spec dam break to 0.1 s with 2 threads
-// took 1.19-1.35 s with the default and 0.41-0.45 s with 3000-30000 (1 thread: 0.21-0.23 s),
-// and sleeping at once (OMP_WAIT_POLICY=PASSIVE) was slower still (docs/performance.md,
-// "Threads that never hurt"). The OpenMP runtime reads the variable when it starts, so the
-// program sets it and starts itself again, once; a GOMP_SPINCOUNT or OMP_WAIT_POLICY the
-// user set is kept.
-constexpr const char* kBoundedSpinCount = "10000";
-
-void restart_with_bounded_spin(char** argv) {
-  if (std::getenv("GOMP_SPINCOUNT") != nullptr || std::getenv("OMP_WAIT_POLICY") != nullptr) return;
-  ::setenv("GOMP_SPINCOUNT", kBoundedSpinCount, 1);
-  ::execv("/proc/self/exe", argv);
-  std::fprintf(stderr, "mps_lab: note: could not restart with GOMP_SPINCOUNT=%s; waiting threads spin longer\n",
-               kBoundedSpinCount);
-}
 
 // `mps_lab run`: its options into `run`.
 CLI::App* add_run_command(CLI::App& app, mps_lab::app::RunCommand& run) {
@@ -142,7 +120,6 @@ CLI::App* add_bench_command(CLI::App& app, mps_lab::app::BenchCommand& bench) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  restart_with_bounded_spin(argv);
   CLI::App app{"mps_lab: a testbed comparing incompressible particle methods (MPS, ISPH, DFSPH) on the same scenes"};
   app.require_subcommand(1);
   app.set_version_flag("--version", mps_lab::version_line());

@@ -60,7 +60,8 @@ nlohmann::json ThreadGovernor::summary() const {
   nlohmann::json summary = {{"policy", settings_.fixed_threads > 0 ? "fixed" : "measured"},
                             {"max_threads", settings_.max_threads},
                             {"steps_by_team", steps}};
-  // How waiting threads wait (app/main.cpp sets a bounded spin unless the user chose).
+  // How waiting threads wait: the OpenMP runtime's settings as the run found them (a bounded
+  // spin was measured and not made the default: docs/performance.md, "Threads that never hurt").
   const char* spin = std::getenv("GOMP_SPINCOUNT");
   const char* policy = std::getenv("OMP_WAIT_POLICY");
   summary["gomp_spincount"] = spin != nullptr ? spin : "libgomp default";
