@@ -185,9 +185,6 @@ void RigidBodies::find_contacts(std::vector<Contact>& contacts) const {
   }
 }
 
-// Body a against the fixed wall surfaces: a circle against each segment (its closest point),
-// a polygon's vertices behind a segment (less than half the body's reach behind it: deeper
-// points are on the far side of a thin wall) and within its length.
 // The end points of the fixed wall surfaces where the solid is convex (a wedge's apex, a
 // plate's end, an open tank's rim): probed on a circle of radius 1e-3 l0 around the point,
 // fewer than half of 16 probes lie inside a solid (core/walls/wall_geometry.hpp, inside_solid).
@@ -210,6 +207,10 @@ std::vector<Vec2> convex_wall_vertices(const WallGeometry& geometry, double spac
   return apexes;
 }
 
+// Body a against the fixed wall surfaces: a circle against each segment (its closest point),
+// a polygon's vertices behind a segment (less than half the body's reach behind it: deeper
+// points are on the far side of a thin wall) and within its length; then the fixed convex vertices inside a
+// polygon body.
 void RigidBodies::wall_contacts(int a, std::vector<Contact>& contacts) const {
   const Body& body = bodies_[a];
   const Polygon shape = body.radius > 0.0 ? Polygon{} : current_shape(body);
