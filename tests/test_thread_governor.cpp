@@ -56,6 +56,19 @@ TEST_CASE("The thread governor counts a single disturbed probe step out by takin
   CHECK(governor.chosen_team() == 2);
 }
 
+TEST_CASE("After its first choice the thread governor changes team only for a clearly faster one", "[unit][threads]") {
+  // switch_margin 0.1: one thread chosen first (1.0 s against 1.2 s), then two threads look 5 %
+  // faster on a re-measurement (a noisy probe): it keeps one thread; 20 % faster: it switches.
+  mps_lab::ThreadGovernor governor({2, 0, 3, 10, 0.1});
+  run_steps(governor, 6, [](int team) { return team == 2 ? 1.2 : 1.0; });
+  CHECK(governor.chosen_team() == 1);
+  run_steps(governor, 10 + 6, [](int team) { return team == 2 ? 0.95 : 1.0; });
+  CHECK(governor.chosen_team() == 1);
+  CHECK(governor.summary().at("choices") == 2);
+  run_steps(governor, 10 + 6, [](int team) { return team == 2 ? 0.8 : 1.0; });
+  CHECK(governor.chosen_team() == 2);
+}
+
 TEST_CASE("A fixed team and a single thread measure nothing", "[unit][threads]") {
   const int before = omp_get_max_threads();
   {

@@ -46,9 +46,16 @@ void ThreadGovernor::record(double step_seconds) {
 }
 
 // The faster candidate by its fastest step (the least disturbed one); a tie keeps one thread,
-// which leaves a core to the rest of the machine.
+// which leaves a core to the rest of the machine. After the first choice, the other candidate
+// replaces the current one only when faster by more than settings_.switch_margin.
 void ThreadGovernor::choose_after_probe() {
-  chosen_ = fastest_[1] < fastest_[0] ? candidates_[1] : candidates_[0];
+  if (choices_ == 0) {
+    chosen_ = fastest_[1] < fastest_[0] ? candidates_[1] : candidates_[0];
+  } else {
+    const std::size_t current = chosen_ == candidates_[1] ? 1 : 0;
+    const std::size_t other = 1 - current;
+    if (fastest_[other] < (1.0 - settings_.switch_margin) * fastest_[current]) chosen_ = candidates_[other];
+  }
   probing_ = -1;
   steps_since_choice_ = 0;
   ++choices_;

@@ -7,7 +7,8 @@
 // another process stalls every barrier of the team. No static rule (a particle count, the
 // load average) predicts it well, so the governor measures: it runs a few steps with each
 // candidate team (one thread, every thread), keeps the fastest of each, runs `period_steps`
-// steps with the faster team, and measures again. The results do not depend on the team
+// steps with the faster team, and measures again; after the first choice it changes team only
+// for a clearly faster one (`switch_margin`). The results do not depend on the team
 // (core/base/parallel.hpp: every sum in a fixed order; the contract suite checks byte-identical
 // frames for 1 and 2 threads), so the choice changes the speed only, never the bits.
 //
@@ -24,6 +25,10 @@ struct ThreadGovernorSettings {
   int fixed_threads = 0;         // > 0: always this team, nothing measured
   int probe_steps = 3;           // steps timed per candidate team; the fastest one counts
   long long period_steps = 200;  // steps run with the chosen team before measuring again
+  // After the first choice, the other team must be faster by more than this fraction to be
+  // taken: a 3-step probe is noisy, and without it isph at 1,176 particles once switched to the
+  // slower team on a re-measurement and ran 1.38 times slower (docs/performance.md).
+  double switch_margin = 0.1;
 };
 
 class ThreadGovernor {
