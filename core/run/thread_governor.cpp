@@ -77,6 +77,7 @@ nlohmann::json ThreadGovernor::summary() const {
     summary["choices"] = choices_;
     summary["period_steps"] = settings_.period_steps;
     summary["probe_steps"] = settings_.probe_steps;
+    summary["switch_margin"] = settings_.switch_margin;
     summary["last_choice"] = chosen_;
   }
   return summary;
