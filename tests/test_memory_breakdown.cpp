@@ -117,3 +117,29 @@ TEST_CASE("isph memory breakdown: the matrix and the Krylov vectors as their siz
   CHECK(breakdown_entry(breakdown, "neighbour_list") >= 4 * (particles + 1));
 }
 #endif
+
+#ifdef MPS_LAB_WITH_MPS
+TEST_CASE("mps memory breakdown: the matrix, the CG vectors and the search as their sizes say", "[mps][profile]") {
+  // amg as at large sizes (the spec's dam break has fewer fluid particles than "auto"'s 2000).
+  const Scene scene = load("dambreak.json", {"methods.mps.preconditioner=amg"});
+  Simulation simulation(scene, *registries().methods.find("mps"));
+  for (int step = 0; step < 3; ++step) simulation.advance();
+  const MemoryBreakdown breakdown = simulation.method().memory_breakdown();
+  const std::size_t particles = simulation.particles().size();
+  // extra[2]: ppe_unknowns (mps's series_columns).
+  const auto unknowns = static_cast<std::size_t>(simulation.last_report().extra[2]);
+  REQUIRE(unknowns > 0);
+  // The matrix: at least 4 bytes per row start and 12 per entry, the diagonal of every row.
+  CHECK(breakdown_entry(breakdown, "ppe.matrix") >= 4 * (unknowns + 1) + 12 * unknowns);
+  // Conjugate gradients keeps the residual, the direction, the product and the preconditioned
+  // residual (4 x 8 bytes per unknown at least), the solution one more.
+  CHECK(breakdown_entry(breakdown, "ppe.solver.krylov_vectors") >= 40 * unknowns);
+  CHECK(breakdown_entry(breakdown, "ppe.solver.amg.level0.vectors") > 0);
+  // The padded assembly slots: at least one 12-byte slot per unknown (its diagonal).
+  CHECK(breakdown_entry(breakdown, "ppe.assembly_slots") >= 12 * unknowns);
+  // The neighbour list: 4 bytes per particle's offset and per neighbour; the step's
+  // accelerations 16 bytes per particle.
+  CHECK(breakdown_entry(breakdown, "neighbour_list") >= 4 * (particles + 1));
+  CHECK(breakdown_entry(breakdown, "step_arrays") >= 16 * particles);
+}
+#endif

@@ -14,6 +14,7 @@
 #include <string>
 
 #include "core/base/error.hpp"
+#include "core/base/memory_bytes.hpp"
 #include "core/io/checkpoint.hpp"
 #include "core/io/geometry.hpp"
 #include "core/io/output.hpp"
@@ -178,6 +179,20 @@ class MpsMethod final : public Method {
   // obstacle_load wall_pressure: the surface integral of the wall's pressure; pair_reaction: the wall pairs'.
   ObstacleLoadKind obstacle_load_kind() const override {
     return surface_loads_ ? ObstacleLoadKind::SurfacePressure : ObstacleLoadKind::PairReaction;
+  }
+
+  // `mps_lab bench`'s memory breakdown (docs/performance.md, "Memory"): the search, the
+  // per-particle arrays of the step, the obstacles' surface and the pressure solve.
+  MemoryBreakdown memory_breakdown() const override {
+    MemoryBreakdown out = {{"neighbour_list", held_bytes(neighbours_.offsets, neighbours_.indices)},
+                           {"cell_list", cells_.held_bytes()},
+                           {"wall_samples", held_bytes(samples_.offsets, samples_.samples)},
+                           {"step_arrays", held_bytes(acceleration_, reaction_, wetted_, carries_pressure_,
+                                                      scheme_rate_, scheme_source_, minimum_pressure_)},
+                           {"obstacle_surface", held_bytes(surface_.element_of_id, surface_.rest_position_of_id,
+                                                           surface_.rest_mean, surface_.members)}};
+    append_breakdown(out, "ppe", ppe_.memory_breakdown());
+    return out;
   }
 
   // Cell-ordered particles (core/search/cell_order.hpp): what save_state keeps per particle.

@@ -1,11 +1,21 @@
 #include "methods/mps/mps_pressure.hpp"
 
+#include "core/base/memory_bytes.hpp"
+
 #include "core/linalg/pressure_system.hpp"
 #include "core/search/for_each_neighbour.hpp"
 
 namespace mps_lab::mps {
 
 Eigen::SparseMatrix<double, Eigen::RowMajor> PressurePoissonSolver::matrix() const { return to_eigen(matrix_); }
+
+MemoryBreakdown PressurePoissonSolver::memory_breakdown() const {
+  MemoryBreakdown out = {{"matrix", matrix_.held_bytes()},
+                         {"assembly_slots", assembler_.held_bytes()},
+                         {"unknowns", held_bytes(row_of_, particle_of_, grounded_, rhs_)}};
+  append_breakdown(out, "solver", solver_.memory_breakdown());
+  return out;
+}
 
 // Row `row` of A and b (spec §2 Laplacian, §8 source): the neighbours' and the wall samples'
 // terms, the diagonal first, the right-hand side, and whether the row touches a Dirichlet

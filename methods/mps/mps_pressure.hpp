@@ -57,6 +57,9 @@ class PressurePoissonSolver {
  public:
   // Hands `observer` to the projection solver (MethodSetup::pressure_system_observer).
   void observe(PressureSystemObserver observer) { solver_.observe(std::move(observer)); }
+  // What it holds between steps (mps_lab bench's memory breakdown, docs/performance.md
+  // "Memory"): the matrix, the assembler's slots, the unknowns' arrays and the solver's.
+  MemoryBreakdown memory_breakdown() const;
 
   // Free surface, matrix and right-hand side (spec §5.2-5, §8): sets free_surface[i] = 1 and
   // P = 0 for surface particles; fills unknowns, surface and ungrounded_groups of the result.
