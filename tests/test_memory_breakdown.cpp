@@ -143,3 +143,21 @@ TEST_CASE("mps memory breakdown: the matrix, the CG vectors and the search as th
   CHECK(breakdown_entry(breakdown, "step_arrays") >= 16 * particles);
 }
 #endif
+
+#ifdef MPS_LAB_WITH_DFSPH
+TEST_CASE("dfsph memory breakdown: the kernel cache per neighbour pair and the search", "[dfsph][profile]") {
+  const Scene scene = load("dambreak.json");
+  Simulation simulation(scene, *registries().methods.find("dfsph"));
+  for (int step = 0; step < 3; ++step) simulation.advance();
+  const MemoryBreakdown breakdown = simulation.method().memory_breakdown();
+  const std::size_t particles = simulation.particles().size();
+  const std::size_t fluid = simulation.particles().count(ParticleType::Fluid);
+  // W_ij (8 bytes) and grad W_ij (16) per neighbour pair; every fluid particle of the lattice
+  // has at least its 2 neighbours at l0 inside the support 2 l0 (a corner of the column).
+  CHECK(breakdown_entry(breakdown, "kernel_cache") >= 24 * 2 * fluid);
+  CHECK(breakdown_entry(breakdown, "neighbour_list") >= 4 * (particles + 1));
+  // The two stiffness arrays (8 bytes each) and the accelerations (16) per particle.
+  CHECK(breakdown_entry(breakdown, "step_arrays") >= 32 * particles);
+  CHECK(breakdown_entry(breakdown, "solver_workspace") >= 4 * fluid);
+}
+#endif

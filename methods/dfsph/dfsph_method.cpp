@@ -29,6 +29,7 @@
 #include <string>
 
 #include "core/base/error.hpp"
+#include "core/base/memory_bytes.hpp"
 #include "core/io/checkpoint.hpp"
 #include "core/io/geometry.hpp"
 #include "core/io/output.hpp"
@@ -287,6 +288,27 @@ class DfsphMethod final : public Method {
   // Loads on obstacles (core/walls/obstacle_loads.hpp): the fluid's force on each wall particle
   // in the last step, N/m; null without obstacles or without wall particles (Method::wall_reactions).
   const std::vector<Vec2>* wall_reactions() const override { return computes_reactions_ ? &reaction_ : nullptr; }
+
+  // `mps_lab bench`'s memory breakdown (docs/performance.md, "Memory"): the search, the kernel
+  // caches, the wall samples and their caches, the per-particle arrays and the solvers' workspace.
+  MemoryBreakdown memory_breakdown() const override {
+    const SampleCache& sc = sample_cache_;
+    const WallPressureStencil& ws = wall_stencil_;
+    const SolverWorkspace& w = workspace_;
+    return {{"neighbour_list", held_bytes(neighbours_.offsets, neighbours_.indices)},
+            {"cell_list", cells_.held_bytes()},
+            {"kernel_cache", held_bytes(cache_.value, cache_.gradient, cache_.weighted_gradient)},
+            {"wall_samples", held_bytes(samples_.offsets, samples_.samples)},
+            {"sample_cache", held_bytes(sc.value, sc.gradient, sc.mass, sc.own, sc.reaction, sc.owner,
+                                        sc.by_source_offsets, sc.by_source)},
+            {"wall_pressure_stencil",
+             held_bytes(ws.boundary, ws.offsets, ws.fluid, ws.weight, ws.hydrostatic, ws.sample_offsets,
+                        ws.sample_fluid, ws.sample_weight, ws.sample_hydrostatic)},
+            {"step_arrays",
+             held_bytes(boundary_mass_, reaction_, density_stiffness_, divergence_stiffness_, acceleration_)},
+            {"solver_workspace", held_bytes(w.fluid, w.velocity, w.increment, w.stiffness_over_density, w.block_error,
+                                            w.neighbour_counts, w.weighted_gradient)}};
+  }
 
   // Cell-ordered particles (core/search/cell_order.hpp): what save_state keeps per particle.
   void permute_state(const ParticleOrder& order) override {
