@@ -64,6 +64,14 @@ void ProjectionSolver::prepare_preconditioner(const CsrMatrix& matrix, Precondit
   preconditioner_->setup(matrix);
 }
 
+MemoryBreakdown pressure_solve_breakdown(const CsrMatrix& matrix, std::size_t assembly_bytes,
+                                         std::size_t unknowns_bytes, const ProjectionSolver& solver) {
+  MemoryBreakdown out = {
+      {"matrix", matrix.held_bytes()}, {"assembly_slots", assembly_bytes}, {"unknowns", unknowns_bytes}};
+  append_breakdown(out, "solver", solver.memory_breakdown());
+  return out;
+}
+
 MemoryBreakdown ProjectionSolver::memory_breakdown() const {
   MemoryBreakdown out;
   out.emplace_back("krylov_vectors", held_bytes(solution_) + workspace_.held_bytes());

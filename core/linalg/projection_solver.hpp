@@ -82,6 +82,14 @@ struct ProjectionSolverSettings;
 using PressureSystemObserver =
     std::function<void(const CsrMatrix& matrix, const std::vector<double>& rhs, const ProjectionSolverSettings&)>;
 
+class ProjectionSolver;
+
+// The memory of a projection method's pressure solve under the names `mps_lab bench` reports
+// (docs/performance.md, "Memory"): "matrix", "assembly_slots" (the assembler's held bytes),
+// "unknowns" (the caller's per-unknown arrays, bytes) and "solver.*" (the solver's).
+MemoryBreakdown pressure_solve_breakdown(const CsrMatrix& matrix, std::size_t assembly_bytes,
+                                         std::size_t unknowns_bytes, const ProjectionSolver& solver);
+
 class ProjectionSolver {
  public:
   // Calls `observer` with every system solve() receives from now on (empty: none).

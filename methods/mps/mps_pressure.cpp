@@ -10,11 +10,8 @@ namespace mps_lab::mps {
 Eigen::SparseMatrix<double, Eigen::RowMajor> PressurePoissonSolver::matrix() const { return to_eigen(matrix_); }
 
 MemoryBreakdown PressurePoissonSolver::memory_breakdown() const {
-  MemoryBreakdown out = {{"matrix", matrix_.held_bytes()},
-                         {"assembly_slots", assembler_.held_bytes()},
-                         {"unknowns", held_bytes(row_of_, particle_of_, grounded_, rhs_)}};
-  append_breakdown(out, "solver", solver_.memory_breakdown());
-  return out;
+  return pressure_solve_breakdown(matrix_, assembler_.held_bytes(), held_bytes(row_of_, particle_of_, grounded_, rhs_),
+                                  solver_);
 }
 
 // Row `row` of A and b (spec §2 Laplacian, §8 source): the neighbours' and the wall samples'
