@@ -104,19 +104,28 @@ void CellList::find_neighbours(const std::vector<Vec2>& positions, const std::ve
 
   // The neighbours of i in a fixed order: stencil rows bottom to top, and in each row the
   // three cells left to right, which are one contiguous run of the cell-sorted arrays
-  // (particles by index within a cell).
-  const auto append_neighbours = [&](std::size_t i, std::vector<std::uint32_t>& list) {
+  // (particles by index within a cell). Branch-free: every candidate is written at the
+  // list's end, and the end advances only past a neighbour (about a third of the candidates
+  // pass, at random, so a branch would be mispredicted often; docs/performance.md). `used`
+  // is the list's length; its storage is kept at least `used` + one row's candidates long.
+  const auto append_neighbours = [&](std::size_t i, std::vector<std::uint32_t>& list, std::size_t& used) {
     const std::int64_t cell = particle_cell_[i];
     const std::int64_t cx = cell % cells_x_;
     const std::int64_t cy = cell / cells_x_;
     const Vec2 xi = positions[i];
+    const auto self = static_cast<std::uint32_t>(i);
     for (std::int64_t dy = -1; dy <= 1; ++dy) {
       const auto row = static_cast<std::size_t>((cy + dy) * cells_x_ + cx);
       const std::uint32_t first = cell_start_[row - 1];
       const std::uint32_t last = cell_start_[row + 2];
+      if (list.size() < used + (last - first)) list.resize(2 * (used + (last - first)));
+      std::uint32_t* end = list.data() + used;
       for (std::uint32_t k = first; k < last; ++k) {
-        if ((sorted_positions_[k] - xi).squaredNorm() < radius2 && sorted_[k] != i) list.push_back(sorted_[k]);
+        const std::uint32_t j = sorted_[k];
+        *end = j;
+        end += static_cast<std::size_t>(((sorted_positions_[k] - xi).squaredNorm() < radius2) & (j != self));
       }
+      used = static_cast<std::size_t>(end - list.data());
     }
   };
 
@@ -134,11 +143,11 @@ void CellList::find_neighbours(const std::vector<Vec2>& positions, const std::ve
     const std::size_t begin = n * thread / threads;
     const std::size_t end = n * (thread + 1) / threads;
     std::vector<std::uint32_t>& list = thread == 0 ? out.indices : thread_lists_[thread];
-    list.clear();
+    std::size_t used = 0;
     for (std::size_t i = begin; i < end; ++i) {
-      const std::size_t before = list.size();
-      if (types[i] != ParticleType::Ghost) append_neighbours(i, list);
-      out.offsets[i + 1] = static_cast<std::uint32_t>(list.size() - before);
+      const std::size_t before = used;
+      if (types[i] != ParticleType::Ghost) append_neighbours(i, list, used);
+      out.offsets[i + 1] = static_cast<std::uint32_t>(used - before);
     }
 #pragma omp barrier
 #pragma omp single
@@ -146,7 +155,10 @@ void CellList::find_neighbours(const std::vector<Vec2>& positions, const std::ve
       for (std::size_t i = 0; i < n; ++i) out.offsets[i + 1] += out.offsets[i];
       out.indices.resize(out.offsets[n]);  // keeps thread 0's lists at the front
     }
-    if (thread != 0) std::copy(list.begin(), list.end(), out.indices.begin() + out.offsets[begin]);
+    if (thread != 0) {
+      std::copy(list.begin(), list.begin() + static_cast<std::ptrdiff_t>(used),
+                out.indices.begin() + out.offsets[begin]);
+    }
   }
 }
 
