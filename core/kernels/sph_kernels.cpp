@@ -27,36 +27,6 @@ SphKernel::SphKernel(SphKernelKind kind, double support) : kind_(kind), support_
   }
 }
 
-double SphKernel::value(double r) const {
-  const double q = r * scale_;
-  if (kind_ == SphKernelKind::CubicSpline) {
-    if (q < 1.0) return sigma_ * (1.0 - 1.5 * q * q + 0.75 * q * q * q);
-    if (q < 2.0) {
-      const double s = 2.0 - q;
-      return sigma_ * 0.25 * s * s * s;
-    }
-    return 0.0;
-  }
-  if (q >= 1.0) return 0.0;
-  const double s = 1.0 - q;
-  return sigma_ * s * s * s * s * (1.0 + 4.0 * q);
-}
-
-double SphKernel::derivative(double r) const {
-  const double q = r * scale_;
-  if (kind_ == SphKernelKind::CubicSpline) {
-    if (q < 1.0) return sigma_ * scale_ * (-3.0 * q + 2.25 * q * q);
-    if (q < 2.0) {
-      const double s = 2.0 - q;
-      return -sigma_ * scale_ * 0.75 * s * s;
-    }
-    return 0.0;
-  }
-  if (q >= 1.0) return 0.0;
-  const double s = 1.0 - q;
-  return -20.0 * sigma_ * scale_ * q * s * s * s;  // d/dq [(1-q)^4 (1+4q)] = -20 q (1-q)^3
-}
-
 double lattice_kernel_sum(const SphKernel& kernel, double spacing) {
   const int reach = static_cast<int>(std::ceil(kernel.support() / spacing));
   double sum = 0.0;

@@ -47,4 +47,36 @@ class SphKernel {
 // particle with full support exactly rho0; sum * spacing^2 is the lattice partition of unity.
 double lattice_kernel_sum(const SphKernel& kernel, double spacing);
 
+// Inline: the operators call these once per neighbour pair. Both pieces of the cubic spline
+// are computed and one is selected (no branch on q, which neighbours straddle at random;
+// docs/performance.md), with the same expressions as a branch would evaluate, so the values
+// are bit for bit those of the branching form.
+inline double SphKernel::value(double r) const {
+  const double q = r * scale_;
+  if (kind_ == SphKernelKind::CubicSpline) {
+    const double s = 2.0 - q;
+    const double inner = sigma_ * (1.0 - 1.5 * q * q + 0.75 * q * q * q);
+    const double outer = sigma_ * 0.25 * s * s * s;
+    const double tail = q < 2.0 ? outer : 0.0;
+    return q < 1.0 ? inner : tail;
+  }
+  const double s = 1.0 - q;
+  const double inside = sigma_ * s * s * s * s * (1.0 + 4.0 * q);
+  return q >= 1.0 ? 0.0 : inside;
+}
+
+inline double SphKernel::derivative(double r) const {
+  const double q = r * scale_;
+  if (kind_ == SphKernelKind::CubicSpline) {
+    const double s = 2.0 - q;
+    const double inner = sigma_ * scale_ * (-3.0 * q + 2.25 * q * q);
+    const double outer = -sigma_ * scale_ * 0.75 * s * s;
+    const double tail = q < 2.0 ? outer : 0.0;
+    return q < 1.0 ? inner : tail;
+  }
+  const double s = 1.0 - q;
+  const double inside = -20.0 * sigma_ * scale_ * q * s * s * s;  // d/dq [(1-q)^4 (1+4q)] = -20 q (1-q)^3
+  return q >= 1.0 ? 0.0 : inside;
+}
+
 }  // namespace mps_lab
