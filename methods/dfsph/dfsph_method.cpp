@@ -297,7 +297,7 @@ class DfsphMethod final : public Method {
     const SolverWorkspace& w = workspace_;
     return {{"neighbour_list", held_bytes(neighbours_.offsets, neighbours_.indices)},
             {"cell_list", cells_.held_bytes()},
-            {"kernel_cache", held_bytes(cache_.value, cache_.gradient, cache_.weighted_gradient)},
+            {"kernel_cache", held_bytes(cache_.value, cache_.gradient, cache_.neighbour_mass)},
             {"wall_samples", held_bytes(samples_.offsets, samples_.samples)},
             {"sample_cache", held_bytes(sc.value, sc.gradient, sc.mass, sc.own, sc.reaction, sc.owner,
                                         sc.by_source_offsets, sc.by_source)},
@@ -307,7 +307,7 @@ class DfsphMethod final : public Method {
             {"step_arrays",
              held_bytes(boundary_mass_, reaction_, density_stiffness_, divergence_stiffness_, acceleration_)},
             {"solver_workspace", held_bytes(w.fluid, w.velocity, w.increment, w.stiffness_over_density, w.block_error,
-                                            w.neighbour_counts, w.weighted_gradient)}};
+                                            w.neighbour_counts, w.neighbour_mass)}};
   }
 
   // Cell-ordered particles (core/search/cell_order.hpp): what save_state keeps per particle.

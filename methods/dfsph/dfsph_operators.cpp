@@ -21,30 +21,31 @@ inline void evaluate_kernel(const SphKernel& kernel, const Vec2& r_ij, double& v
   gradient = r <= 0.0 || r >= kernel.support() ? Vec2::Zero() : Vec2(kernel.derivative(r) / r * r_ij);
 }
 
-// Both forms of compute_kernel_cache; `boundary_mass` null: every row, without the weighted
-// gradients; else the rows of fluid particles only, with them.
+// Both forms of compute_kernel_cache; `boundary_mass` null: every row, without the neighbour
+// masses; else the rows of fluid particles only, with them.
 void fill_kernel_cache(const ParticleSet& particles, const NeighbourList& neighbours, const SphKernel& kernel,
                        double particle_mass, const std::vector<double>* boundary_mass, KernelCache& cache) {
   const std::size_t pairs = neighbours.indices.size();
   const bool weighted = boundary_mass != nullptr;
   cache.value.resize(pairs);
   cache.gradient.resize(pairs);
-  cache.weighted_gradient.resize(weighted ? pairs : 0);
   cache.self_value = kernel.value(0.0);
   const auto n = static_cast<std::ptrdiff_t>(neighbours.particle_count());
+  cache.neighbour_mass.resize(weighted ? static_cast<std::size_t>(n) : 0);
+#pragma omp parallel for schedule(static) if (n >= kThreadedLoopMinimum)
+  for (std::ptrdiff_t i = 0; i < n; ++i) {
+    if (!weighted) continue;
+    // kg/m: m (fluid), Psi_b (boundary; 0 for an unused wall layer), 0 (inert)
+    const ParticleType type = particles.type[i];
+    cache.neighbour_mass[i] = type == ParticleType::Fluid  ? particle_mass
+                              : type == ParticleType::Wall ? (*boundary_mass)[i]
+                                                           : 0.0;
+  }
 #pragma omp parallel for schedule(static) if (n >= kThreadedLoopMinimum)
   for (std::ptrdiff_t i = 0; i < n; ++i) {
     if (weighted && particles.type[i] != ParticleType::Fluid) continue;
     for_each_neighbour(neighbours, i, [&](std::uint32_t k, std::uint32_t j) {
       evaluate_kernel(kernel, particles.position[i] - particles.position[j], cache.value[k], cache.gradient[k]);
-      if (!weighted) return;
-      double mass = 0.0;  // kg/m: m (fluid), Psi_b (boundary; 0 for an unused wall layer)
-      if (particles.type[j] == ParticleType::Fluid) {
-        mass = particle_mass;
-      } else if (particles.type[j] == ParticleType::Wall) {
-        mass = (*boundary_mass)[j];
-      }
-      cache.weighted_gradient[k] = mass * cache.gradient[k];
     });
   }
 }

@@ -55,12 +55,13 @@ struct KernelCache {
   std::vector<double> value;   // W_ij, 1/m^2
   std::vector<Vec2> gradient;  // grad_i W_ij, 1/m^3
   double self_value = 0.0;     // W(0), 1/m^2
-  // c_ij, the coefficient of the pair in D rho_i/Dt = sum_j c_ij . (v_i - v_j) ([BK17] eq. (9))
-  // and in the pressure correction (eqs. (7)-(8)): m grad W_ij for a fluid neighbour j,
-  // Psi_b grad W_ib for a boundary particle b, 0 for an inert neighbour; on the rows of fluid
-  // particles (0 on the others), kg/m^4. Empty unless the cache was computed with the masses
-  // (the solvers then weight the gradients themselves).
-  std::vector<Vec2> weighted_gradient;
+  // m_j, the mass particle j has as a neighbour (kg/m, per particle): m for fluid, Psi_b for a
+  // boundary particle, 0 for an inert one. The pair's coefficient in D rho_i/Dt =
+  // sum_j c_ij . (v_i - v_j) ([BK17] eq. (9)) and in the pressure correction (eqs. (7)-(8)) is
+  // c_ij = m_j grad W_ij (kg/m^4), formed where it is used: a per-pair copy would cost 16 B
+  // per pair to write and hold (docs/performance.md, "Memory"). Empty unless the cache was
+  // computed with the masses (the solvers then fill their own).
+  std::vector<double> neighbour_mass;
 };
 
 // W, grad_i W(x_i - x_w), Psi_w and the constraint gradients of every wall sample (aligned

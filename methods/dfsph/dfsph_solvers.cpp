@@ -14,10 +14,10 @@ constexpr std::size_t kErrorBlock = 64;
 
 // Fills the workspace for one solve: the fluid list, the solver's velocities (fluid, 0 for
 // every other particle: boundary particles do not move), no correction pending, s = 0 and
-// zero stiffness outside the fluid; the pair coefficients c_ij if the kernel cache has none.
-// Returns c_ij (KernelCache::weighted_gradient).
-const Vec2* prepare(const ParticleSet& particles, const SphSystem& system, std::vector<double>& stiffness,
-                    SolverWorkspace& w) {
+// zero stiffness outside the fluid; the neighbour masses m_j if the kernel cache has none.
+// Returns m_j (KernelCache::neighbour_mass).
+const double* prepare(const ParticleSet& particles, const SphSystem& system, std::vector<double>& stiffness,
+                      SolverWorkspace& w) {
   const std::size_t n = particles.size();
   stiffness.resize(n, 0.0);
   w.velocity.resize(n);
@@ -35,23 +35,20 @@ const Vec2* prepare(const ParticleSet& particles, const SphSystem& system, std::
     if (!fluid) stiffness[i] = 0.0;
   }
   w.block_error.resize((w.fluid.size() + kErrorBlock - 1) / kErrorBlock);
-  const auto& list = system.neighbours;
-  if (system.kernel.weighted_gradient.size() == list.indices.size()) return system.kernel.weighted_gradient.data();
-  w.weighted_gradient.assign(list.indices.size(), Vec2::Zero());  // as compute_kernel_cache with the masses
-  for (const std::uint32_t i : w.fluid) {
-    for_each_neighbour(list, i, [&](std::uint32_t k, std::uint32_t j) {
-      const double mass = particles.type[j] == ParticleType::Fluid ? system.particle_mass
+  if (system.kernel.neighbour_mass.size() == n) return system.kernel.neighbour_mass.data();
+  w.neighbour_mass.resize(n);  // as compute_kernel_cache with the masses
+  for (std::size_t j = 0; j < n; ++j) {
+    w.neighbour_mass[j] = particles.type[j] == ParticleType::Fluid ? system.particle_mass
                           : is_boundary(particles, system, j)      ? system.boundary_mass[j]
                                                                    : 0.0;
-      w.weighted_gradient[k] = mass * system.kernel.gradient[k];
-    });
   }
-  return w.weighted_gradient.data();
+  return w.neighbour_mass.data();
 }
 
 // The arrays one solve iterates over (raw pointers: the loops below are the solver's hot path).
 struct IterationArrays {
-  const Vec2* coefficient;         // c_ij, kg/m^4
+  const Vec2* gradient;            // grad W_ij of the kernel cache, 1/m^3
+  const double* neighbour_mass;    // m_j, kg/m
   const std::uint32_t* offsets;    // the neighbour list's rows
   const std::uint32_t* neighbour;  // and its indices
   const std::uint32_t* fluid;      // the fluid particles
@@ -71,7 +68,8 @@ struct IterationArrays {
 IterationArrays iteration_arrays(ParticleSet& particles, const SphSystem& system, const std::vector<double>& density,
                                  std::vector<double>& stiffness, SolverWorkspace& w) {
   IterationArrays arrays{};
-  arrays.coefficient = prepare(particles, system, stiffness, w);
+  arrays.neighbour_mass = prepare(particles, system, stiffness, w);
+  arrays.gradient = system.kernel.gradient.data();
   arrays.offsets = system.neighbours.offsets.data();
   arrays.neighbour = system.neighbours.indices.data();
   arrays.fluid = w.fluid.data();
@@ -93,6 +91,12 @@ IterationArrays iteration_arrays(ParticleSet& particles, const SphSystem& system
 inline std::ptrdiff_t block_first(std::ptrdiff_t block) { return block * static_cast<std::ptrdiff_t>(kErrorBlock); }
 inline std::ptrdiff_t block_last(const IterationArrays& a, std::ptrdiff_t block) {
   return std::min(a.fluid_count, (block + 1) * static_cast<std::ptrdiff_t>(kErrorBlock));
+}
+
+// c_ij = m_j grad W_ij of neighbour pair k (kg/m^4): the pair's coefficient in D rho_i/Dt and
+// in the pressure correction (KernelCache::neighbour_mass).
+inline Vec2 coefficient(const IterationArrays& a, std::uint32_t k) {
+  return a.neighbour_mass[a.neighbour[k]] * a.gradient[k];
 }
 
 // sum_k term(k) over the neighbour pairs k of particle i, in two partial sums (even and odd
@@ -142,7 +146,7 @@ void correct(const IterationArrays& a, double dt, std::vector<double>& stiffness
       const double s_i = s[i];
       // sum (s_i + s_j) c_ij: (1/rho) grad p, m/s^2
       Vec2 gradient =
-          pair_sum(a, i, [&](std::uint32_t k) -> Vec2 { return (s_i + s[a.neighbour[k]]) * a.coefficient[k]; });
+          pair_sum(a, i, [&](std::uint32_t k) -> Vec2 { return (s_i + s[a.neighbour[k]]) * coefficient(a, k); });
       if (a.samples != nullptr) {
         // The constraint force of the samples: -s_i G_ii (for a sample at rest Psi_w s_i grad W_iw,
         // [AIA12]'s mirroring), and the reaction of every constraint k whose samples move with i
@@ -182,7 +186,7 @@ double predict(const IterationArrays& a, const std::vector<double>& density, con
       const std::uint32_t i = a.fluid[f];
       const Vec2 vi = a.velocity[i];
       double rate = pair_sum(a, i, [&](std::uint32_t k) -> Vec2 {
-                      return (vi - a.velocity[a.neighbour[k]]).cwiseProduct(a.coefficient[k]);
+                      return (vi - a.velocity[a.neighbour[k]]).cwiseProduct(coefficient(a, k));
                     }).sum();  // kg/(m^3 s)
       if (a.samples != nullptr) {
         const SampleCache* sample = a.sample;

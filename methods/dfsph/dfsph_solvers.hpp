@@ -53,7 +53,7 @@ struct SolverWorkspace {
   std::vector<double> stiffness_over_density;  // s_i = increment / rho_i of the next correction, m^5/(kg s^2)
   std::vector<double> block_error;             // partial sums of the relative error, one per block
   std::vector<double> neighbour_counts;        // fluid + boundary neighbours (+ sample volumes)
-  std::vector<Vec2> weighted_gradient;         // c_ij, when the kernel cache has none (kg/m^4)
+  std::vector<double> neighbour_mass;          // m_j, when the kernel cache has none (kg/m)
 };
 
 // Algorithm 2 of [BK17] (§3.2): corrects the velocities so that D rho_i/Dt = 0, with
