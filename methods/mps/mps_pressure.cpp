@@ -14,6 +14,23 @@ MemoryBreakdown PressurePoissonSolver::memory_breakdown() const {
                                   solver_);
 }
 
+int PressurePoissonSolver::row_count(const RowInputs& in, std::size_t i) const {
+  const ParticleSet& particles = in.particles;
+  const Vec2& x = particles.position[i];
+  const double re = in.laplacian.re;  // a_ij = 0 from re on (spec §2; the HL term likewise)
+  int count = 1;
+  for_each_neighbour(in.neighbours, i, [&](std::uint32_t j) {
+    count += in.carries_pressure[j] && particles.type[j] != ParticleType::Ghost && row_of_[j] >= 0 &&
+                     (particles.position[j] - x).norm() < re
+                 ? 1
+                 : 0;
+  });
+  for_each_neighbour(in.samples, i, [&](const WallSample& wall) {
+    count += wall.source != i && row_of_[wall.source] >= 0 && (wall.position - x).norm() < re ? 1 : 0;
+  });
+  return count;
+}
+
 // Row `row` of A and b (spec §2 Laplacian, §8 source): the neighbours' and the wall samples'
 // terms, the diagonal first, the right-hand side, and whether the row touches a Dirichlet
 // particle. Reads only: rows are assembled in parallel.
@@ -112,15 +129,17 @@ PressureSolveResult PressurePoissonSolver::assemble(ParticleSet& particles, cons
   // A_ij = -a_ij; the diagonal is stored first in its row. Rows in parallel: row i reads only.
   const double coefficient = 2.0 * kDimension / (laplacian.n0 * laplacian.lambda);  // 1/m^2
   const double source = settings.relaxation * settings.density / (dt * dt);         // kg/(m^3 s^2)
-  const bool with_samples = samples.has_samples();
   rhs_.resize(static_cast<std::size_t>(unknowns));
   grounded_.assign(static_cast<std::size_t>(unknowns), 0);
   const RowInputs in{particles, neighbours, samples, number_density, carries_pressure,
                      laplacian, settings,   n0,      coefficient,    source};
-  assembler_.start(unknowns, [&](int row) {
-    const auto i = static_cast<std::size_t>(particle_of_[static_cast<std::size_t>(row)]);
-    return static_cast<int>(1 + neighbours.count(i) + (with_samples ? samples.end(i) - samples.begin(i) : 0));
-  });
+  // The entries of every row, counted (in parallel), then placed: the rows' storage in matrix_.
+  assembler_.start(matrix_, unknowns);
+#pragma omp parallel for schedule(static)
+  for (int row = 0; row < unknowns; ++row) {
+    assembler_.count(row, row_count(in, static_cast<std::size_t>(particle_of_[static_cast<std::size_t>(row)])));
+  }
+  assembler_.place(matrix_);
 #pragma omp parallel for schedule(static)
   for (int row = 0; row < unknowns; ++row) assemble_row(in, row);
   assembler_.finish(matrix_, /*diagonal_first=*/true);

@@ -110,14 +110,18 @@ class PressurePoissonSolver {
     double coefficient;  // 2d / (n0_L lambda_L), 1/m^2
     double source;       // relaxation rho / dt^2, kg/(m^3 s^2)
   };
+  // Entries of particle i's row: the diagonal and one per unknown neighbour or wall-sample
+  // source within the Laplacian's radius (exact; a term that is exactly 0 otherwise, e.g. a
+  // sample of volume 0, makes the row shorter, which the assembler closes up).
+  int row_count(const RowInputs& in, std::size_t i) const;
   void assemble_row(const RowInputs& in, int row);
   // a_ij of one pair at distance r (1/m^2): the spec's coefficient w_L(r) or the HL term.
   static double laplacian_term(const RowInputs& in, double r);
 
   std::vector<int> row_of_;  // particle -> unknown index, -1 if not an unknown
   std::vector<int> particle_of_;
-  std::vector<char> grounded_;  // per unknown: touches a Dirichlet particle
-  CsrAssembler assembler_;
+  std::vector<char> grounded_;     // per unknown: touches a Dirichlet particle
+  CsrInPlaceAssembler assembler_;  // rows straight into matrix_ (no padded copy beside it)
   CsrMatrix matrix_;
   std::vector<double> rhs_;  // Pa/m^2
   ProjectionSolver solver_;
