@@ -107,7 +107,8 @@ void CellList::find_neighbours(const std::vector<Vec2>& positions, const std::ve
   // (particles by index within a cell). Branch-free: every candidate is written at the
   // list's end, and the end advances only past a neighbour (about a third of the candidates
   // pass, at random, so a branch would be mispredicted often; docs/performance.md). `used`
-  // is the list's length; its storage is kept at least `used` + one row's candidates long.
+  // is the list's length; its storage is kept at least `used` + one row's candidates long
+  // (grown by an eighth: the storage is held between searches and counted in the memory).
   const auto append_neighbours = [&](std::size_t i, std::vector<std::uint32_t>& list, std::size_t& used) {
     const std::int64_t cell = particle_cell_[i];
     const std::int64_t cx = cell % cells_x_;
@@ -118,7 +119,8 @@ void CellList::find_neighbours(const std::vector<Vec2>& positions, const std::ve
       const auto row = static_cast<std::size_t>((cy + dy) * cells_x_ + cx);
       const std::uint32_t first = cell_start_[row - 1];
       const std::uint32_t last = cell_start_[row + 2];
-      if (list.size() < used + (last - first)) list.resize(2 * (used + (last - first)));
+      const std::size_t needed = used + (last - first);
+      if (list.size() < needed) list.resize(needed + needed / 8 + 64);  // 1/8 headroom: capacity near the list's size
       std::uint32_t* end = list.data() + used;
       for (std::uint32_t k = first; k < last; ++k) {
         const std::uint32_t j = sorted_[k];
