@@ -32,14 +32,11 @@ void fill_kernel_cache(const ParticleSet& particles, const NeighbourList& neighb
   cache.self_value = kernel.value(0.0);
   const auto n = static_cast<std::ptrdiff_t>(neighbours.particle_count());
   cache.neighbour_mass.resize(weighted ? static_cast<std::size_t>(n) : 0);
+  if (weighted) {
 #pragma omp parallel for schedule(static) if (n >= kThreadedLoopMinimum)
-  for (std::ptrdiff_t i = 0; i < n; ++i) {
-    if (!weighted) continue;
-    // kg/m: m (fluid), Psi_b (boundary; 0 for an unused wall layer), 0 (inert)
-    const ParticleType type = particles.type[i];
-    cache.neighbour_mass[i] = type == ParticleType::Fluid  ? particle_mass
-                              : type == ParticleType::Wall ? (*boundary_mass)[i]
-                                                           : 0.0;
+    for (std::ptrdiff_t j = 0; j < n; ++j) {
+      cache.neighbour_mass[j] = neighbour_mass_of(particles, particle_mass, *boundary_mass, j);
+    }
   }
 #pragma omp parallel for schedule(static) if (n >= kThreadedLoopMinimum)
   for (std::ptrdiff_t i = 0; i < n; ++i) {

@@ -188,6 +188,14 @@ inline bool is_boundary(const ParticleSet& particles, const SphSystem& system, s
   return particles.type[j] == ParticleType::Wall && system.boundary_mass[j] > 0.0;
 }
 
+// m_j, the mass particle j has as a neighbour (KernelCache::neighbour_mass), kg/m: m for fluid,
+// Psi_b for a wall particle (0 for an unused wall layer), 0 for any other.
+inline double neighbour_mass_of(const ParticleSet& particles, double particle_mass,
+                                const std::vector<double>& boundary_mass, std::size_t j) {
+  const ParticleType type = particles.type[j];
+  return type == ParticleType::Fluid ? particle_mass : type == ParticleType::Wall ? boundary_mass[j] : 0.0;
+}
+
 void compute_kernel_cache(const ParticleSet& particles, const NeighbourList& neighbours, const SphKernel& kernel,
                           KernelCache& cache);
 // The step's cache: the rows of fluid particles only (all that the step's operators and

@@ -38,9 +38,7 @@ const double* prepare(const ParticleSet& particles, const SphSystem& system, std
   if (system.kernel.neighbour_mass.size() == n) return system.kernel.neighbour_mass.data();
   w.neighbour_mass.resize(n);  // as compute_kernel_cache with the masses
   for (std::size_t j = 0; j < n; ++j) {
-    w.neighbour_mass[j] = particles.type[j] == ParticleType::Fluid ? system.particle_mass
-                          : is_boundary(particles, system, j)      ? system.boundary_mass[j]
-                                                                   : 0.0;
+    w.neighbour_mass[j] = neighbour_mass_of(particles, system.particle_mass, system.boundary_mass, j);
   }
   return w.neighbour_mass.data();
 }
