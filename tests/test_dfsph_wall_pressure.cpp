@@ -263,18 +263,15 @@ TEST_CASE("DFSPH wall_pressure: bad input is a one-line error naming the key", "
   CHECK(message({"methods.dfsph.wall_pressure=\"mirrored\""}).empty());
 }
 
-TEST_CASE("DFSPH extrapolated wall pressure: still water reads rho g h at the wall - every boundary model",
-          "[dfsph][validation][sensor]") {
-  // scenes/hydrostatic.json to 1.5 s with wall_pressure = extrapolated and each boundary model
-  // dfsph supports; the sensors of tests/test_pressure_sensors.cpp (left wall surface x =
-  // 0.0125 m, depths h = 0.225 / 0.15 / 0.075 m below the lattice's top edge y = 0.2875 m),
-  // their record's mean over [0.5, 1.5] s against rho g h. Measured (docs/methods/dfsph.md,
-  // "At the walls"), h = 0.225 / 0.15 / 0.075 m: akinci_boundary 1.058 / 1.020 / 1.003,
-  // dummy_layers 1.043 / 1.029 / 1.036, mirror_particles 1.032 / 1.007 / 1.003,
-  // distance_function 1.029 / 1.015 / 1.017 (the mirrored default: 1.51-1.62 with the three
-  // lattice models, 1.01-1.03 with mirror particles). Bound: within 0.08 of 1 (the largest
-  // measured deviation, 0.058, with margin); the mirrored wall term (1.5-1.6) fails it. The
-  // 1 % target is met at 4 of the 12 sensors: reported, not asserted.
+namespace {
+
+// scenes/hydrostatic.json with wall_pressure = extrapolated, the given kernel support (in l0)
+// and each boundary model dfsph supports; the sensors of tests/test_pressure_sensors.cpp (left
+// wall surface x = 0.0125 m, depths h = 0.225 / 0.15 / 0.075 m below the lattice's top edge
+// y = 0.2875 m), their record's mean over [0.5 s, end] against rho g h: calls
+// check(model, h, ratio) for each of the 3 x (number of models) sensors.
+template <class Check>
+void still_water_wall_sensors(double kernel_support, double end_time, Check check) {
   const MethodInfo& dfsph = *registries().methods.find("dfsph");
   const std::vector<double> heights = {0.0625, 0.1375, 0.2125};  // m, sensor centres
   std::string sensors = "diagnostics.pressure_sensors=[";
@@ -285,21 +282,55 @@ TEST_CASE("DFSPH extrapolated wall pressure: still water reads rho g h at the wa
   sensors += "]";
   for (const auto* wall : registries().walls.all()) {
     if (wall->role != WallTreatmentRole::Boundary || !wall_treatment_supports(*wall, dfsph)) continue;
-    INFO("boundary model " << wall->name);
-    const Scene scene =
-        load("hydrostatic.json", {"methods.dfsph.wall_treatments={\"" + wall->name + "\":{}}",
-                                  "methods.dfsph.wall_pressure=\"extrapolated\"", sensors, "time.end_time=1.5"});
+    const Scene scene = load("hydrostatic.json", {"methods.dfsph.wall_treatments={\"" + wall->name + "\":{}}",
+                                                  "methods.dfsph.wall_pressure=\"extrapolated\"",
+                                                  "methods.dfsph.kernel_support=" + std::to_string(kernel_support),
+                                                  sensors, "time.end_time=" + std::to_string(end_time)});
     Simulation simulation(scene, dfsph);
     simulation.run_to(0.5);
     simulation.pressure_sensors().take_row(simulation.particles());
-    simulation.run_to(1.5);
+    simulation.run_to(end_time);
     const std::vector<double> row = simulation.pressure_sensors().take_row(simulation.particles());
     REQUIRE(row.size() == 2 * heights.size());  // mean and peak per sensor
     for (std::size_t k = 0; k < heights.size(); ++k) {
-      const double ratio = row[2 * k] / (1000.0 * 9.81 * (0.2875 - heights[k]));
-      INFO("h = " << 0.2875 - heights[k] << " m: mean / rho g h = " << ratio);
-      CHECK(std::fabs(ratio - 1.0) < 0.08);
-      CHECK_NOFAIL(std::fabs(ratio - 1.0) < 0.01);  // the target, reported
+      const double depth = 0.2875 - heights[k];
+      check(wall->name, depth, row[2 * k] / (1000.0 * 9.81 * depth));
     }
   }
+}
+
+}  // namespace
+
+TEST_CASE("DFSPH extrapolated wall pressure: still water reads rho g h at the wall - every boundary model",
+          "[dfsph][validation][sensor]") {
+  // The default support, 2 l0, mean over [0.5, 1.5] s. Measured (docs/methods/dfsph.md, "At the
+  // walls"), h = 0.225 / 0.15 / 0.075 m: akinci_boundary 1.058 / 1.020 / 1.003, dummy_layers
+  // 1.043 / 1.029 / 1.036, mirror_particles 1.032 / 1.007 / 1.003, distance_function 1.029 /
+  // 1.015 / 1.017 (the mirrored default: 1.51-1.62 with the three lattice models, 1.01-1.03
+  // with mirror particles). Bound: within 0.08 of 1 (the largest measured deviation, 0.058,
+  // with margin); the mirrored wall term (1.5-1.6) fails it. At this support the 1 % target
+  // is met at 4 of the 12 sensors (the next test case meets it with a wider kernel).
+  still_water_wall_sensors(2.0, 1.5, [](const std::string& model, double depth, double ratio) {
+    INFO("boundary model " << model << ", h = " << depth << " m: mean / rho g h = " << ratio);
+    CHECK(std::fabs(ratio - 1.0) < 0.08);
+  });
+}
+
+TEST_CASE("DFSPH extrapolated wall pressure with a 2.4 l0 kernel: still water within 1 % of rho g h - every model",
+          "[dfsph][validation][sensor]") {
+  // At the default support (2 l0, about 12 neighbours) the settled, disordered particles'
+  // SPH gradient is short, -sum_j V (y_i - y_j) dW/dy = 0.98-0.99 (docs/methods/dfsph.md), so
+  // the pressure that carries the water is 2-5 % steep at every sensor (all 12 read high:
+  // 1.017-1.051 over [0.5, 3] s). With 2.4 l0 the bias is gone. Measured, mean over [0.5, 3] s,
+  // h = 0.225 / 0.15 / 0.075 m: akinci_boundary 1.0096 / 0.9982 / 0.9940, dummy_layers
+  // 1.0077 / 1.0065 / 1.0071, mirror_particles 1.0100 / 1.0086 / 1.0002, distance_function
+  // 1.0077 / 1.0008 / 1.0057 (largest deviation 1.00 %). Bound: 1.5 %, the 1 % target plus the
+  // scatter of the time mean itself: the same sensors averaged over [0.5, 1.5] s and [0.5, 5] s
+  // move by up to 0.5 % (sloshing, period 0.8 s), e.g. 1.0071 -> 1.0121 (dummy_layers, h =
+  // 0.075 m). The 2 l0 kernel fails it (dummy_layers 1.040 / 1.033 / 1.054).
+  still_water_wall_sensors(2.4, 3.0, [](const std::string& model, double depth, double ratio) {
+    INFO("boundary model " << model << ", h = " << depth << " m: mean / rho g h = " << ratio);
+    CHECK(std::fabs(ratio - 1.0) < 0.015);
+    CHECK_NOFAIL(std::fabs(ratio - 1.0) < 0.01);  // the target, reported
+  });
 }
