@@ -271,7 +271,7 @@ namespace {
 // y = 0.2875 m), their record's mean over [0.5 s, end] against rho g h: calls
 // check(model, h, ratio) for each of the 3 x (number of models) sensors.
 template <class Check>
-void still_water_wall_sensors(double kernel_support, double end_time, Check check) {
+void still_water_wall_sensors(double kernel_support, double end_time, Check check, double gravity = 9.81) {
   const MethodInfo& dfsph = *registries().methods.find("dfsph");
   const std::vector<double> heights = {0.0625, 0.1375, 0.2125};  // m, sensor centres
   std::string sensors = "diagnostics.pressure_sensors=[";
@@ -282,10 +282,11 @@ void still_water_wall_sensors(double kernel_support, double end_time, Check chec
   sensors += "]";
   for (const auto* wall : registries().walls.all()) {
     if (wall->role != WallTreatmentRole::Boundary || !wall_treatment_supports(*wall, dfsph)) continue;
-    const Scene scene = load("hydrostatic.json", {"methods.dfsph.wall_treatments={\"" + wall->name + "\":{}}",
-                                                  "methods.dfsph.wall_pressure=\"extrapolated\"",
-                                                  "methods.dfsph.kernel_support=" + std::to_string(kernel_support),
-                                                  sensors, "time.end_time=" + std::to_string(end_time)});
+    const Scene scene = load(
+        "hydrostatic.json",
+        {"methods.dfsph.wall_treatments={\"" + wall->name + "\":{}}", "methods.dfsph.wall_pressure=\"extrapolated\"",
+         "methods.dfsph.kernel_support=" + std::to_string(kernel_support), sensors,
+         "time.end_time=" + std::to_string(end_time), "physics.gravity=[0, " + std::to_string(-gravity) + "]"});
     Simulation simulation(scene, dfsph);
     simulation.run_to(0.5);
     simulation.pressure_sensors().take_row(simulation.particles());
@@ -294,7 +295,7 @@ void still_water_wall_sensors(double kernel_support, double end_time, Check chec
     REQUIRE(row.size() == 2 * heights.size());  // mean and peak per sensor
     for (std::size_t k = 0; k < heights.size(); ++k) {
       const double depth = 0.2875 - heights[k];
-      check(wall->name, depth, row[2 * k] / (1000.0 * 9.81 * depth));
+      check(wall->name, depth, row[2 * k] / (1000.0 * gravity * depth));
     }
   }
 }
@@ -328,9 +329,15 @@ TEST_CASE("DFSPH extrapolated wall pressure with a 2.4 l0 kernel: still water wi
   // scatter of the time mean itself: the same sensors averaged over [0.5, 1.5] s and [0.5, 5] s
   // move by up to 0.5 % (sloshing, period 0.8 s), e.g. 1.0071 -> 1.0121 (dummy_layers, h =
   // 0.075 m). The 2 l0 kernel fails it (dummy_layers 1.040 / 1.033 / 1.054).
-  still_water_wall_sensors(2.4, 3.0, [](const std::string& model, double depth, double ratio) {
+  const auto within = [](const std::string& model, double depth, double ratio) {
     INFO("boundary model " << model << ", h = " << depth << " m: mean / rho g h = " << ratio);
     CHECK(std::fabs(ratio - 1.0) < 0.015);
     CHECK_NOFAIL(std::fabs(ratio - 1.0) < 0.01);  // the target, reported
-  });
+  };
+  still_water_wall_sensors(2.4, 3.0, within);
+  // The tank accelerating upward at a = g/2: in its frame gravity g + a (tests/test_pressure_sensors.cpp),
+  // p = rho (g + a) h. Measured: akinci_boundary 1.0053 / 0.9948 / 0.9967, dummy_layers 1.0070 /
+  // 1.0071 / 1.0063, mirror_particles 1.0120 / 1.0137 / 1.0101, distance_function 1.0061 / 1.0006 /
+  // 1.0004 (9 of 12 within 1 %).
+  still_water_wall_sensors(2.4, 3.0, within, 1.5 * 9.81);
 }
