@@ -319,10 +319,10 @@ TEST_CASE("DFSPH extrapolated wall pressure: still water reads rho g h at the wa
 
 TEST_CASE("DFSPH extrapolated wall pressure with a 2.4 l0 kernel: still water within 1 % of rho g h - every model",
           "[dfsph][validation][sensor]") {
-  // At the default support (2 l0, about 12 neighbours) the settled, disordered particles'
-  // SPH gradient is short, -sum_j V (y_i - y_j) dW/dy = 0.98-0.99 (docs/methods/dfsph.md), so
-  // the pressure that carries the water is 2-5 % steep at every sensor (all 12 read high:
-  // 1.017-1.051 over [0.5, 3] s). With 2.4 l0 the bias is gone. Measured, mean over [0.5, 3] s,
+  // At the default support (2 l0: 8 neighbours on the lattice, 20 at 2.4 l0) the settled,
+  // disordered particles' SPH gradient is short, -sum_j V (y_i - y_j) dW/dy = 0.98-0.99
+  // (docs/methods/dfsph.md), so the pressure that carries the water is steep at every sensor
+  // (all 12 read high: 1.010-1.054 over [0.5, 3] s). With 2.4 l0 the bias is gone. Measured, mean over [0.5, 3] s,
   // h = 0.225 / 0.15 / 0.075 m: akinci_boundary 1.0096 / 0.9982 / 0.9940, dummy_layers
   // 1.0077 / 1.0065 / 1.0071, mirror_particles 1.0100 / 1.0086 / 1.0002, distance_function
   // 1.0077 / 1.0008 / 1.0057 (largest deviation 1.00 %). Bound: 1.5 %, the 1 % target plus the
