@@ -16,6 +16,7 @@
 #include "core/search/neighbour_search.hpp"
 #include "methods/dfsph/dfsph_operators.hpp"
 #include "methods/dfsph/dfsph_solvers.hpp"
+#include "still_water_sensors.hpp"
 #include "support.hpp"
 
 using namespace mps_lab;
@@ -265,39 +266,14 @@ TEST_CASE("DFSPH wall_pressure: bad input is a one-line error naming the key", "
 
 namespace {
 
-// scenes/hydrostatic.json with wall_pressure = extrapolated, the given kernel support (in l0)
-// and each boundary model dfsph supports; the sensors of tests/test_pressure_sensors.cpp (left
-// wall surface x = 0.0125 m, depths h = 0.225 / 0.15 / 0.075 m below the lattice's top edge
-// y = 0.2875 m), their record's mean over [0.5 s, end] against rho g h: calls
-// check(model, h, ratio) for each of the 3 x (number of models) sensors.
+// scenes/hydrostatic.json with wall_pressure = extrapolated and the given kernel support (in l0):
+// the wall sensors of still_water_sensors.hpp with every boundary model dfsph supports.
 template <class Check>
 void still_water_wall_sensors(double kernel_support, double end_time, Check check, double gravity = 9.81) {
-  const MethodInfo& dfsph = *registries().methods.find("dfsph");
-  const std::vector<double> heights = {0.0625, 0.1375, 0.2125};  // m, sensor centres
-  std::string sensors = "diagnostics.pressure_sensors=[";
-  for (std::size_t k = 0; k < heights.size(); ++k) {
-    sensors += std::string(k > 0 ? "," : "") + "{\"name\": \"s" + std::to_string(k) + "\", \"position\": [0.0125, " +
-               std::to_string(heights[k]) + "]}";
-  }
-  sensors += "]";
-  for (const auto* wall : registries().walls.all()) {
-    if (wall->role != WallTreatmentRole::Boundary || !wall_treatment_supports(*wall, dfsph)) continue;
-    const Scene scene = load(
-        "hydrostatic.json",
-        {"methods.dfsph.wall_treatments={\"" + wall->name + "\":{}}", "methods.dfsph.wall_pressure=\"extrapolated\"",
-         "methods.dfsph.kernel_support=" + std::to_string(kernel_support), sensors,
-         "time.end_time=" + std::to_string(end_time), "physics.gravity=[0, " + std::to_string(-gravity) + "]"});
-    Simulation simulation(scene, dfsph);
-    simulation.run_to(0.5);
-    simulation.pressure_sensors().take_row(simulation.particles());
-    simulation.run_to(end_time);
-    const std::vector<double> row = simulation.pressure_sensors().take_row(simulation.particles());
-    REQUIRE(row.size() == 2 * heights.size());  // mean and peak per sensor
-    for (std::size_t k = 0; k < heights.size(); ++k) {
-      const double depth = 0.2875 - heights[k];
-      check(wall->name, depth, row[2 * k] / (1000.0 * gravity * depth));
-    }
-  }
+  mps_lab::testing::still_water_wall_sensors("dfsph",
+                                             {"methods.dfsph.wall_pressure=\"extrapolated\"",
+                                              "methods.dfsph.kernel_support=" + std::to_string(kernel_support)},
+                                             end_time, check, gravity);
 }
 
 }  // namespace

@@ -28,6 +28,7 @@
 #include "core/search/for_each_neighbour.hpp"
 #include "methods/eisph/eisph_relaxation.hpp"
 #include "methods/isph/isph_operators.hpp"
+#include "methods/isph/isph_surface.hpp"
 
 namespace mps_lab::eisph {
 namespace {
@@ -84,6 +85,7 @@ class EisphMethod final : public Method {
     source_term_ = p.string("source_term");
     density_relaxation_ = p.number("density_relaxation");
     free_surface_density_ratio_ = p.number("free_surface_density_ratio");
+    surface_offset_ = p.number("free_surface_offset") * l0;  // m
     gradient_form_ = isph::pressure_gradient_form_from_name(p.string("pressure_gradient"));
     clamp_negative_pressure_ = p.boolean("clamp_negative_pressure");
     limits_ = {h, p.number("viscous_number"), p.number("force_number"), scene_.physics.kinematic_viscosity,
@@ -256,10 +258,14 @@ class EisphMethod final : public Method {
     const Vec2 gravity = scene_.physics.gravity;
     {
       const auto timed = measure(timers_, assembly_phase_);
+      // (SURF) of the surface particles with a surface offset (methods/isph/isph_surface.hpp)
+      isph::water_surface_factors(particles, neighbours_, samples_, kernel_, scene_.physics.gravity, free_surface,
+                                  surface_offset_, scene_.particle_spacing, surface_factor_);
       for (std::size_t i = 0; i < particles.size(); ++i) {
-        const bool held = particles.type[i] == ParticleType::Ghost ||
-                          (particles.type[i] == ParticleType::Fluid && free_surface[i] != 0.0);
-        if (held) particles.pressure[i] = 0.0;  // p = 0 on the free surface (and ghosts)
+        const bool held =
+            particles.type[i] == ParticleType::Ghost ||
+            (particles.type[i] == ParticleType::Fluid && free_surface[i] != 0.0 && surface_factor_[i] == 0.0);
+        if (held) particles.pressure[i] = 0.0;  // p = 0 on the free surface's held particles (and ghosts)
       }
       // Wall particles that see fluid (as the wall rows of isph_pressure.cpp; none with wall samples)
       adami_wall_pressure(particles, neighbours_, kernel_, rest_density_field_, gravity, particles.pressure);
@@ -268,7 +274,7 @@ class EisphMethod final : public Method {
     const auto timed = measure(timers_, solve_phase_);
     const SweepResult sweep =
         relaxation_sweep(particles, neighbours_, samples_, kernel_, rest_density_field_, free_surface, source_,
-                         settings_, previous_pressure_, particles.pressure);
+                         settings_, previous_pressure_, particles.pressure, &surface_factor_);
     if (clamp_negative_pressure_) {
       for_each_fluid_particle(particles,
                               [&](std::ptrdiff_t i) { particles.pressure[i] = std::max(particles.pressure[i], 0.0); });
@@ -350,6 +356,8 @@ class EisphMethod final : public Method {
   std::string source_term_;
   double density_relaxation_ = 0.0;
   double free_surface_density_ratio_ = 0.95;
+  double surface_offset_ = 0.0;         // delta, m (isph_surface.hpp); 0: p = 0 at the surface particles
+  std::vector<double> surface_factor_;  // factor_i of (SURF) per particle, 0 where p = 0 is held
   isph::PressureGradientForm gradient_form_ = isph::PressureGradientForm::SymmetricCorrectedSurface;
   bool clamp_negative_pressure_ = true;
   StepLimits limits_;
@@ -391,6 +399,7 @@ static std::vector<mps_lab::ParameterSpec> eisph_parameters() {
                        "alpha of the mixed source, div u*/dt + alpha (rho0 - rho*)/(rho0 dt^2) (Asai et al. 2012)")
           .at_least(0.0)
           .at_most(1.0),
+      isph::free_surface_offset_parameter(),
       number_parameter("free_surface_density_ratio", 0.95, "",
                        "beta: rho*/rho0 < beta marks a free-surface particle, p = 0 (Shao & Lo 2003)")
           .above(0.0)

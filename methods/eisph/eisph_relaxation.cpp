@@ -5,6 +5,7 @@
 
 #include "core/search/for_each_neighbour.hpp"
 #include "methods/isph/isph_operators.hpp"
+#include "methods/isph/isph_surface.hpp"
 
 namespace mps_lab::eisph {
 
@@ -72,11 +73,15 @@ SweepResult relaxation_sweep(const ParticleSet& particles, const NeighbourList& 
                              const WallSampleList& samples, const SphKernel& kernel, const std::vector<double>& density,
                              const std::vector<double>& free_surface, const std::vector<double>& source,
                              const RelaxationSettings& settings, const std::vector<double>& previous,
-                             std::vector<double>& pressure) {
+                             std::vector<double>& pressure, const std::vector<double>* surface_factor) {
   const double omega = settings.relaxation;
   for_each_fluid_particle(particles, [&](std::ptrdiff_t i) {
     if (free_surface[i] != 0.0) {
-      pressure[i] = 0.0;  // Dirichlet p = 0 on the free surface
+      const double factor = surface_factor != nullptr ? (*surface_factor)[i] : 0.0;
+      // (SURF) from p^n at the water surface beyond it, or Dirichlet p = 0 at its centre
+      pressure[i] = factor > 0.0 ? isph::water_surface_pressure(particles, neighbours, kernel, factor,
+                                                                static_cast<std::size_t>(i), previous)
+                                 : 0.0;
       return;
     }
     const RowSums sums = row_sums(particles, neighbours, samples, kernel, density, settings, previous, i);

