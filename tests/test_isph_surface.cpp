@@ -123,8 +123,8 @@ TEST_CASE("isph water surface: a sheet one particle thick keeps p = 0 at its cen
     const NeighbourList neighbours = find_neighbours(sheet.position, sheet.type, kernel.support());
     const std::vector<double> surface(sheet.size(), 1.0);
     std::vector<double> factor;
-    isph::water_surface_factors(sheet, neighbours, isph::no_wall_samples(), kernel, Vec2(0.0, -9.81), surface,
-                                0.5 * l0, l0, factor);
+    isph::water_surface_factors(sheet, neighbours, isph::no_wall_samples(), kernel, Vec2(0.0, -9.81), surface, 0.5 * l0,
+                                l0, factor);
     for (std::size_t i = 0; i < sheet.size(); ++i) {
       INFO(rows << " rows, particle " << i);
       const bool tip = i % 12 == 0 || i % 12 == 11;
@@ -151,7 +151,8 @@ TEST_CASE("isph water surface: the PPE's surface rows - hydrostatic residual 0, 
     settings.mass = kRho / lattice_kernel_sum(t->kernel, l0);
     settings.surface_offset = delta;
     isph::PressurePoissonSolver solver;
-    const auto result = solver.assemble(particles, t->neighbours, t->samples, t->kernel, rest, surface, source, settings);
+    const auto result =
+        solver.assemble(particles, t->neighbours, t->samples, t->kernel, rest, surface, source, settings);
     CHECK(result.surface == 19);
     CHECK(result.surface_unknowns == 19);
     CHECK(result.fluid_unknowns == 19 * 11);

@@ -61,10 +61,9 @@ ParameterSpec free_surface_offset_parameter() {
       .at_most(1.0);
 }
 
-void water_surface_factors(const ParticleSet& particles, const NeighbourList& neighbours,
-                           const WallSampleList& samples, const SphKernel& kernel,
-                           const Vec2& gravity, const std::vector<double>& free_surface, double offset,
-                           double spacing, std::vector<double>& factor) {
+void water_surface_factors(const ParticleSet& particles, const NeighbourList& neighbours, const WallSampleList& samples,
+                           const SphKernel& kernel, const Vec2& gravity, const std::vector<double>& free_surface,
+                           double offset, double spacing, std::vector<double>& factor) {
   const auto n = static_cast<std::ptrdiff_t>(particles.size());
   factor.assign(particles.size(), 0.0);
   if (offset <= 0.0) return;
@@ -79,9 +78,8 @@ void water_surface_factors(const ParticleSet& particles, const NeighbourList& ne
   }
 }
 
-double water_surface_pressure(const ParticleSet& particles, const NeighbourList& neighbours,
-                              const SphKernel& kernel, double factor_i, std::size_t i,
-                              const std::vector<double>& pressure) {
+double water_surface_pressure(const ParticleSet& particles, const NeighbourList& neighbours, const SphKernel& kernel,
+                              double factor_i, std::size_t i, const std::vector<double>& pressure) {
   double sum = 0.0;
   for_each_neighbour(neighbours, i, [&](std::uint32_t j) {
     if (particles.type[j] != ParticleType::Fluid) return;

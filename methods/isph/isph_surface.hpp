@@ -46,14 +46,12 @@ ParameterSpec free_surface_offset_parameter();
 // centre: not a fluid particle on the free surface (`free_surface[i]` == 0), d_i too small, or
 // `offset` (delta, m) 0. Fluid and wall particles weigh m in the normal, a sample m V_w;
 // `gravity` (m/s^2) tells which wall points are above the particle.
-void water_surface_factors(const ParticleSet& particles, const NeighbourList& neighbours,
-                           const WallSampleList& samples, const SphKernel& kernel, const Vec2& gravity,
-                           const std::vector<double>& free_surface, double offset, double spacing,
-                           std::vector<double>& factor);
+void water_surface_factors(const ParticleSet& particles, const NeighbourList& neighbours, const WallSampleList& samples,
+                           const SphKernel& kernel, const Vec2& gravity, const std::vector<double>& free_surface,
+                           double offset, double spacing, std::vector<double>& factor);
 
 // (SURF) evaluated: factor_i sum_j W_ij pressure_j over the non-ghost fluid neighbours.
-double water_surface_pressure(const ParticleSet& particles, const NeighbourList& neighbours,
-                              const SphKernel& kernel, double factor_i, std::size_t i,
-                              const std::vector<double>& pressure);
+double water_surface_pressure(const ParticleSet& particles, const NeighbourList& neighbours, const SphKernel& kernel,
+                              double factor_i, std::size_t i, const std::vector<double>& pressure);
 
 }  // namespace mps_lab::isph
