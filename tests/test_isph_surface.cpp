@@ -197,10 +197,14 @@ TEST_CASE("isph water surface: still water reads rho g h at the wall - every bou
   // 0.8 l0): there the half-second means scatter by 1-1.5 % (distance_function 0.981 over
   // [0.5, 1] s, 0.971 over [1, 1.5] s). Bound: 3 %, the largest measured deviation (2.4 %)
   // with room for that scatter; the 1 % target is reported.
-  still_water_wall_sensors("isph", {"methods.isph.free_surface_offset=0.5"}, 1.5,
-                           [](const std::string& model, double depth, double ratio) {
-                             INFO("boundary model " << model << ", h = " << depth << " m: mean / rho g h = " << ratio);
-                             CHECK(std::fabs(ratio - 1.0) < 0.03);
-                             CHECK_NOFAIL(std::fabs(ratio - 1.0) < 0.01);  // the target, reported
-                           });
+  const auto within = [](const std::string& model, double depth, double ratio) {
+    INFO("boundary model " << model << ", h = " << depth << " m: mean / rho g h = " << ratio);
+    CHECK(std::fabs(ratio - 1.0) < 0.03);
+    CHECK_NOFAIL(std::fabs(ratio - 1.0) < 0.01);  // the target, reported
+  };
+  still_water_wall_sensors("isph", {"methods.isph.free_surface_offset=0.5"}, 1.5, within);
+  // The tank accelerating upward at a = g/2 (tests/test_pressure_sensors.cpp): p = rho (g + a) h.
+  // Measured: 1.001 / 0.995 / 0.977, 1.003 / 0.997 / 0.984, 1.006 / 1.004 / 0.998, 1.000 / 0.993 /
+  // 0.977 (the models in the order above; 9 of 12 within 1 %).
+  still_water_wall_sensors("isph", {"methods.isph.free_surface_offset=0.5"}, 1.5, within, 1.5 * 9.81);
 }
