@@ -53,7 +53,7 @@ namespace mps_lab::isph {
 
 struct PressureSolveSettings {
   double rest_density = 1000.0;     // rho0, kg/m^3
-  double spacing = 0.025;           // l0, m (row scaling only)
+  double spacing = 0.025;           // l0, m (row scaling and the (SURF) depth bound)
   double mass = 0.625;              // m, kg/m (per unit depth)
   double eta2 = 0.0;                // eta^2 of the Laplacian, m^2
   double surface_offset = 0.0;      // delta, m: p = 0 delta beyond the surface particles (0: at them)
