@@ -120,7 +120,8 @@ TEST_CASE(
     const std::vector<double> rest(n, rho0);
     const std::vector<Vec2> predicted(n, Vec2(dt * g));
     std::vector<double> divergence;
-    isph::velocity_divergence(p, t.neighbours, t.samples, t.kernel, t.mass, rest, predicted, Vec2(dt * g), divergence);
+    isph::velocity_divergence(p, t.neighbours, t.samples, t.kernel, t.mass, rest, predicted, Vec2(dt * g), dt,
+                              divergence);
     for (std::size_t i = 0; i < n; ++i) CHECK(std::fabs(divergence[i]) < 1e-12);
 
     // (3) p = rho0 |g| (top - y): every sample carries p_s + rho0 g . (x_w - x_s), the same

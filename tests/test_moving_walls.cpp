@@ -134,13 +134,21 @@ TEST_CASE("moving walls: bad motion input is a one-line error naming the file an
     CHECK(test.message.find('\n') == std::string::npos);
   }
   CHECK_THAT(error_with_table("backwards.csv"), Catch::Contains("scene.json"));
-  // A boundary model that does not move walls refuses a moving obstacle when the run starts.
-  const Scene samples = load("dambreak_gate.json", {"methods.isph.wall_treatments.dummy_layers.enabled=true",
-                                                    "methods.isph.wall_treatments.adami_wall_particles.enabled=false"});
+  // A boundary model that does not move walls (WallTreatmentInfo::moving_walls false: here a copy
+  // of dummy_layers without the declaration) refuses a moving obstacle when the run starts.
+  WallTreatmentRegistry walls = builtin_wall_treatments();
+  WallTreatmentInfo fixed_layers = *walls.find("dummy_layers");
+  fixed_layers.name = "fixed_dummy_layers";
+  fixed_layers.moving_walls = false;
+  walls.add(fixed_layers);
   const MethodInfo* isph = registries().methods.find("isph");
   if (isph != nullptr) {
+    const Scene samples = load_scene(scene_path("dambreak_gate.json"),
+                                     {"methods.isph.wall_treatments.fixed_dummy_layers.enabled=true",
+                                      "methods.isph.wall_treatments.adami_wall_particles.enabled=false"},
+                                     registries().methods, walls);
     CHECK_THROWS_WITH(Simulation(samples, *isph), Catch::Contains("walls.obstacles[0].motion") &&
-                                                      Catch::Contains("dummy_layers does not move walls"));
+                                                      Catch::Contains("fixed_dummy_layers does not move walls"));
   }
   // A method whose operators ignore the walls' velocity refuses one too (MethodInfo::moving_walls).
   for (const MethodInfo* info : registries().methods.all()) {

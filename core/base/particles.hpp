@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "core/base/particle_order.hpp"
+#include "core/base/rigid_pose.hpp"
 #include "core/base/types.hpp"
 
 namespace mps_lab {
@@ -32,6 +33,11 @@ struct ParticleSet {
   Vec2 prescribed_wall_acceleration(std::size_t i) const {
     return wall_acceleration.empty() ? Vec2::Zero() : wall_acceleration[i];
   }
+  // The pose of every obstacle (walls.obstacles[k], core/base/rigid_pose.hpp) at the time the
+  // step solves for: empty while every wall is at rest, else one per obstacle (zero for a fixed
+  // one). Set by the driver with wall_velocity; the boundary models of wall samples move their
+  // wall with it (core/walls/wall_geometry.hpp). Not per particle: a reordering leaves it.
+  std::vector<RigidPose> obstacle_pose;
   // Method-declared per-particle scalars, keyed by name (std::map: references stay valid).
   std::map<std::string, std::vector<double>> scalar_fields;
   // The persistent particle id: the index at which add() created the particle. The particles

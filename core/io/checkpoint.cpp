@@ -336,15 +336,19 @@ void read_neighbour_list(CheckpointReader& reader, NeighbourList& list) {
   if (!consistent) reader.fail("an inconsistent neighbour list");
 }
 
+// Doubles per wall sample: position 2, velocity map 4, volume 1, wall velocity 2, wall acceleration 2.
+constexpr std::size_t kWallSampleValues = 11;
+
 void write_wall_samples(CheckpointWriter& writer, const WallSampleList& samples) {
   writer.write_u32s(samples.offsets);
   std::vector<double> values;
   std::vector<std::uint32_t> sources;
-  values.reserve(samples.samples.size() * 7);
+  values.reserve(samples.samples.size() * kWallSampleValues);
   for (const WallSample& sample : samples.samples) {
     values.insert(values.end(),
                   {sample.position.x(), sample.position.y(), sample.velocity_map(0, 0), sample.velocity_map(0, 1),
-                   sample.velocity_map(1, 0), sample.velocity_map(1, 1), sample.volume});
+                   sample.velocity_map(1, 0), sample.velocity_map(1, 1), sample.volume, sample.wall_velocity.x(),
+                   sample.wall_velocity.y(), sample.wall_acceleration.x(), sample.wall_acceleration.y()});
     sources.push_back(sample.source);
   }
   writer.write_doubles(values);
@@ -356,17 +360,19 @@ void read_wall_samples(CheckpointReader& reader, WallSampleList& samples) {
   const std::vector<double> values = reader.read_doubles();
   const std::vector<std::uint32_t> sources = reader.read_u32s();
   const bool consistent =
-      values.size() == 7 * sources.size() &&
+      values.size() == kWallSampleValues * sources.size() &&
       (samples.offsets.empty() ? sources.empty()
                                : samples.offsets.front() == 0 && samples.offsets.back() == sources.size());
   if (!consistent) reader.fail("inconsistent wall samples");
   samples.samples.resize(sources.size());
   for (std::size_t k = 0; k < sources.size(); ++k) {
-    const double* v = &values[7 * k];
+    const double* v = &values[kWallSampleValues * k];
     WallSample& sample = samples.samples[k];
     sample.position = Vec2(v[0], v[1]);
     sample.velocity_map << v[2], v[3], v[4], v[5];
     sample.volume = v[6];
+    sample.wall_velocity = Vec2(v[7], v[8]);
+    sample.wall_acceleration = Vec2(v[9], v[10]);
     sample.source = sources[k];
   }
 }

@@ -144,10 +144,11 @@ Simulation::Simulation(const Scene& scene, const MethodInfo& info, PressureSyste
 // The wall particles of moving obstacles where they are at time t (s): a motion law's pose at t,
 // a body's from its state (where the last advance() left it).
 void Simulation::place_moving_walls(double t) {
-  if (moving_walls_.empty()) return;
+  if (!scene_.walls.any_moving()) return;  // (a boundary model of wall samples has no members but moves too)
   std::vector<RigidPose> poses = moving_walls_.law_poses(t);
   bodies_.set_poses(poses);
   moving_walls_.apply(particles_, poses);
+  particles_.obstacle_pose = std::move(poses);  // the boundary models of wall samples follow them
 }
 
 void Simulation::reorder_by_cell() {

@@ -13,8 +13,10 @@
 //          wall region, gamma(d)).
 // Points that lie outside the solid, beyond the support, or nearer to another segment are
 // left out (corners are counted once). Each point carries i's own pressure extrapolated
-// hydrostatically, p_w = p_i + rho0 g . (x_w - x_i); the wall is at rest (no slip) or moves
-// with the mirror of i's velocity (free slip).
+// hydrostatically, p_w = p_i + rho0 (g - a_w) . (x_w - x_i); the wall is at rest (no slip) or
+// moves with the mirror of i's velocity (free slip). The segments of a moving obstacle move
+// with it (core/walls/wall_samples.hpp: its points carry u_wall, or the mirror of i's velocity
+// relative to it, and its acceleration a_w).
 #include <cmath>
 
 #include "core/io/scene.hpp"
@@ -34,6 +36,7 @@ class DistanceFunction final : public WallSampleModel {
         free_slip_(setup.parameters.string("velocity") == "free_slip") {}
 
   void build_wall_samples(const WallContext& context, WallSampleList& samples) override {
+    follow_moving_walls(context.particles);
     const ParticleSet& particles = context.particles;
     const double support = context.support;
     const double support2 = support * support;
@@ -70,6 +73,7 @@ class DistanceFunction final : public WallSampleModel {
             sample.velocity_map = velocity_map;
             sample.source = static_cast<std::uint32_t>(i);
             sample.volume = volume;
+            set_wall_motion(sample, wall);
             samples.samples.push_back(sample);
           }
         }

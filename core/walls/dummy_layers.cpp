@@ -6,11 +6,15 @@
 //   p_w = p_i + rho0 g . (x_w - x_i),
 // the hydrostatic extrapolation used for MPS dummy walls, and for the SPH methods the
 // generalised wall condition of Adami, Hu & Adams (2012, eq. 27) with the fluid sum reduced
-// to the particle itself. The wall is at rest (u_w = 0, no slip). No wall pressure is solved
-// for: the PPE keeps only fluid unknowns, the wall terms go to its right-hand side.
+// to the particle itself. The wall is at rest (u_w = 0, no slip), or, the layers of a moving
+// obstacle, moves with it: its points are placed by the obstacle's pose every step as its wall
+// particles would be (core/walls/moving_walls.hpp) and carry its velocity and acceleration,
+// p_w = p_i + rho0 (g - a_w) . (x_w - x_i). No wall pressure is solved for: the PPE keeps only
+// fluid unknowns, the wall terms go to its right-hand side.
 #include "core/io/geometry.hpp"
 #include "core/io/scene.hpp"
 #include "core/search/point_grid.hpp"
+#include "core/walls/obstacle_membership.hpp"
 #include "core/walls/wall_geometry.hpp"
 #include "core/walls/wall_sample_model.hpp"
 #include "core/walls/wall_treatment.hpp"
@@ -22,13 +26,23 @@ class DummyLayers final : public WallSampleModel {
  public:
   explicit DummyLayers(const WallTreatmentSetup& setup) : WallSampleModel(setup), support_(0.0) {
     const ParticleSet lattice = build_particles(setup.scene, true);
+    const std::vector<std::int32_t> owner = setup.scene.walls.any_moving()
+                                                ? obstacle_of_wall_particles(setup.scene, lattice)
+                                                : std::vector<std::int32_t>(lattice.size(), kNoObstacle);
     for (std::size_t k = 0; k < lattice.size(); ++k) {
-      if (lattice.type[k] == ParticleType::Wall) wall_points_.push_back(lattice.position[k]);
+      if (lattice.type[k] != ParticleType::Wall) continue;
+      const std::int32_t body = owner[k];
+      if (body != kNoObstacle && setup.scene.walls.moving(static_cast<std::size_t>(body))) {
+        const Vec2 arm = lattice.position[k] - obstacle_rest_centroid(setup.scene, static_cast<std::size_t>(body));
+        moving_points_.push_back({wall_points_.size(), static_cast<std::size_t>(body), lattice.position[k], arm});
+      }
+      wall_points_.push_back(lattice.position[k]);
     }
   }
 
   void build_wall_samples(const WallContext& context, WallSampleList& samples) override {
-    if (context.support != support_) {  // the grid's cells must be at least the support
+    const bool moved = place_moving_points(context.particles);
+    if (moved || context.support != support_) {  // the grid's cells must be at least the support
       grid_.build(wall_points_, context.support);
       support_ = context.support;
     }
@@ -42,14 +56,46 @@ class DummyLayers final : public WallSampleModel {
         WallSample sample;
         sample.position = grid_.points()[k];
         sample.source = static_cast<std::uint32_t>(i);
-        samples.samples.push_back(sample);  // velocity_map 0 (wall at rest), volume 1
+        if (!point_motion_.empty()) {  // u_w = u_wall (velocity_map 0), a_w
+          sample.wall_velocity = point_motion_[k].velocity;
+          sample.wall_acceleration = point_motion_[k].acceleration;
+        }
+        samples.samples.push_back(sample);  // velocity_map 0 (no slip), volume 1
       });
     }
     samples.offsets[particles.size()] = static_cast<std::uint32_t>(samples.samples.size());
   }
 
  private:
+  // A point of a moving obstacle's layers: where the scene puts it and its arm r0 = x0 - x_c0.
+  struct MovingPoint {
+    std::size_t index;  // in wall_points_
+    std::size_t body;   // walls.obstacles[body]
+    Vec2 rest;          // m
+    Vec2 arm;           // m
+  };
+  struct PointMotion {
+    Vec2 velocity = Vec2::Zero();      // m/s
+    Vec2 acceleration = Vec2::Zero();  // m/s^2
+  };
+
+  // The moving obstacles' points to their poses (x0 + d + (R r0 - r0), the wall particles' rule,
+  // core/walls/moving_walls.hpp) with their velocities; false when nothing moves.
+  bool place_moving_points(const ParticleSet& particles) {
+    if (moving_points_.empty() || particles.obstacle_pose.empty()) return false;
+    point_motion_.resize(wall_points_.size());
+    for (const MovingPoint& point : moving_points_) {
+      const RigidPose& pose = particles.obstacle_pose[point.body];
+      const Vec2 r = rotated_arm(pose, point.arm);
+      wall_points_[point.index] = point.rest + pose.displacement + (r - point.arm);
+      point_motion_[point.index] = {rigid_point_velocity(pose, r), rigid_point_acceleration(pose, r)};
+    }
+    return true;
+  }
+
   std::vector<Vec2> wall_points_;  // m
+  std::vector<MovingPoint> moving_points_;
+  std::vector<PointMotion> point_motion_;  // per wall point while obstacles move (zero for fixed points)
   PointGrid grid_;
   double support_;  // m, the support the grid was built for
 };

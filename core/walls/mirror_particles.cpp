@@ -11,6 +11,10 @@
 // and velocity of their original:
 //   p_j' = p_j + rho0 g . (x_j' - x_j)         (hydrostatic extrapolation across the wall)
 //   u_j' = (I - 2 n n^T) u_j  (free slip)  or  -u_j  (no slip); -u_j through a corner.
+// Across the surface of a moving obstacle (walls.obstacles[k].motion) the images mirror the
+// motion relative to the wall, u_j' = M u_j + (I - M) u_wall, and carry its acceleration in
+// the extrapolation, p_j' = p_j + rho0 (g - a_wall) . (x_j' - x_j) (core/walls/wall_samples.hpp);
+// through a corner u_wall is the mean of the two surfaces' velocities there.
 // The images are not particles of the simulation; the PPE couples i to j through them.
 #include <algorithm>
 #include <cmath>
@@ -26,7 +30,9 @@ namespace {
 struct Image {
   Vec2 position;  // m
   Mat2 velocity_map;
-  std::uint32_t source;  // the fluid particle it mirrors
+  std::uint32_t source;                   // the fluid particle it mirrors
+  Vec2 wall_velocity = Vec2::Zero();      // (I - M) u_wall, m/s (core/walls/wall_samples.hpp)
+  Vec2 wall_acceleration = Vec2::Zero();  // a_wall, m/s^2
 };
 
 // Points (images, fluid particles) in square cells of side `cell`, m: every point closer than
@@ -89,11 +95,14 @@ class PointGrid {
 class MirrorParticles final : public WallSampleModel {
  public:
   explicit MirrorParticles(const WallTreatmentSetup& setup)
-      : WallSampleModel(setup), no_slip_(setup.parameters.string("velocity") == "no_slip") {
-    find_corners(1e-9 * setup.scene.particle_spacing);
+      : WallSampleModel(setup),
+        no_slip_(setup.parameters.string("velocity") == "no_slip"),
+        corner_tolerance_(1e-9 * setup.scene.particle_spacing) {
+    find_corners(corner_tolerance_);
   }
 
   void build_wall_samples(const WallContext& context, WallSampleList& samples) override {
+    follow_moving_walls(context.particles);
     const ParticleSet& particles = context.particles;
     const double support = context.support;
     const std::size_t n = particles.size();
@@ -150,6 +159,8 @@ class MirrorParticles final : public WallSampleModel {
       sample.position = images_[k].position;
       sample.velocity_map = images_[k].velocity_map;
       sample.source = images_[k].source;
+      sample.wall_velocity = images_[k].wall_velocity;
+      sample.wall_acceleration = images_[k].wall_acceleration;
       samples.samples.push_back(sample);
     };
     for (std::size_t i = 0; i < n; ++i) {
@@ -176,6 +187,7 @@ class MirrorParticles final : public WallSampleModel {
   // where a box's side face, which reaches down into the bed, meets the bed's surface). The
   // fluid lies inside the angle where a particle is in front of both (build_wall_samples).
   void find_corners(double tolerance) {
+    corners_.clear();
     const auto& segments = geometry_.segments();
     for (std::size_t a = 0; a < segments.size(); ++a) {
       for (std::size_t b = a + 1; b < segments.size(); ++b) {
@@ -218,6 +230,11 @@ class MirrorParticles final : public WallSampleModel {
       if (!geometry_.inside_solid(image) || filled_by_another_face(image, s, d)) continue;
       const Mat2 reflect = Mat2::Identity() - 2.0 * wall.normal * wall.normal.transpose();
       images_.push_back({image, no_slip_ ? Mat2(-Mat2::Identity()) : reflect, j});
+      if (geometry_.moves(wall)) {  // the motion relative to the wall, mirrored
+        Image& moved = images_.back();
+        moved.wall_velocity = (Mat2::Identity() - moved.velocity_map) * geometry_.wall_velocity(wall, image);
+        moved.wall_acceleration = geometry_.wall_acceleration(wall, image);
+      }
     }
   }
 
@@ -275,10 +292,22 @@ class MirrorParticles final : public WallSampleModel {
       // No fluid particle reaches the image unless x is within the support of the corner.
       if ((x - corner.point).norm() >= support || !geometry_.inside_solid(image)) continue;
       images_.push_back({image, -Mat2::Identity(), j});
+      const WallSegment& a = geometry_.segments()[corner.a];
+      const WallSegment& b = geometry_.segments()[corner.b];
+      if (geometry_.moves(a) || geometry_.moves(b)) {  // (I - M) u_wall = 2 u_wall, u_wall the surfaces' mean
+        images_.back().wall_velocity =
+            geometry_.wall_velocity(a, corner.point) + geometry_.wall_velocity(b, corner.point);
+        images_.back().wall_acceleration =
+            0.5 * (geometry_.wall_acceleration(a, corner.point) + geometry_.wall_acceleration(b, corner.point));
+      }
     }
   }
 
+  // The corners where a moving obstacle's surfaces meet others change as it moves.
+  void geometry_moved() override { find_corners(corner_tolerance_); }
+
   bool no_slip_;
+  double corner_tolerance_;  // m
   std::vector<Corner> corners_;
   std::vector<std::uint32_t> image_offsets_;
   std::vector<Image> images_;

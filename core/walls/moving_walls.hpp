@@ -22,19 +22,10 @@
 #include <vector>
 
 #include "core/base/particles.hpp"
+#include "core/base/rigid_pose.hpp"
 #include "core/io/scene.hpp"
 
 namespace mps_lab {
-
-// Where a moving obstacle is, relative to its scene position.
-struct RigidPose {
-  Vec2 displacement = Vec2::Zero();   // d = x_c - x_c0, m
-  double angle = 0.0;                 // theta, rad, counter-clockwise
-  Vec2 velocity = Vec2::Zero();       // u_c, m/s
-  double angular_velocity = 0.0;      // omega, rad/s
-  Vec2 acceleration = Vec2::Zero();   // a_c, m/s^2
-  double angular_acceleration = 0.0;  // alpha, rad/s^2
-};
 
 // The pose of a motion law at time t (s): a translation, theta = 0.
 RigidPose law_pose(const WallMotion& motion, double t);

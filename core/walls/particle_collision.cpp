@@ -44,7 +44,7 @@ class ParticleCollision final : public WallTreatment {
         change -= (1.0 + restitution_) * approach * 0.5 * normal;
       }
       // Wall samples (boundary models without wall particles) collide as wall particles do,
-      // with their own velocity (0, or a mirror image's reflected velocity).
+      // with their own velocity (0, a mirror image's reflected velocity, a moving wall's).
       if (context.samples != nullptr && context.samples->has_samples()) {
         for (std::uint32_t k = context.samples->begin(i); k < context.samples->end(i); ++k) {
           const WallSample& sample = context.samples->samples[k];
@@ -52,7 +52,8 @@ class ParticleCollision final : public WallTreatment {
           const double r2 = between.squaredNorm();
           if (r2 >= distance2 || r2 <= 0.0) continue;
           const Vec2 normal = between / std::sqrt(r2);
-          const double approach = (before_[i] - sample.velocity_map * before_[sample.source]).dot(normal);
+          const double approach =
+              (before_[i] - (sample.velocity_map * before_[sample.source] + sample.wall_velocity)).dot(normal);
           if (approach <= 0.0) continue;
           change -= (1.0 + restitution_) * approach * 0.5 * normal;
         }

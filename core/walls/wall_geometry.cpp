@@ -4,6 +4,8 @@
 #include <cmath>
 #include <limits>
 
+#include "core/walls/obstacle_membership.hpp"
+
 namespace mps_lab {
 
 namespace {
@@ -14,24 +16,36 @@ bool strictly_inside_box(const Vec2& x, const Box& box) {
 
 }  // namespace
 
-WallGeometry::WallGeometry(const Scene& scene)
+WallGeometry::WallGeometry(const Scene& scene, MovingObstacles moving)
     : walls_(scene.walls), domain_(scene.domain), half_spacing_(0.5 * scene.particle_spacing) {
   const double h = half_spacing_;
   const double far = std::numeric_limits<double>::infinity();
   interior_.min = Vec2(walls_.left ? domain_.min.x() + h : -far, walls_.bottom ? domain_.min.y() + h : -far);
   interior_.max = Vec2(walls_.right ? domain_.max.x() - h : far, walls_.top ? domain_.max.y() - h : far);
-  // A moving obstacle (walls.obstacles[k].motion or .body) is not part of this fixed geometry: an empty
-  // box (nothing is inside it) and no faces. Only boundary models of wall particles move walls.
+  // A moving obstacle (walls.obstacles[k].motion or .body) is part of the geometry only when
+  // asked for (at rest until move_obstacles); else an empty box (nothing is inside it) and no faces.
+  const bool include_moving = moving == MovingObstacles::Included && walls_.any_moving();
+  const Box nothing{Vec2(far, far), Vec2(-far, -far)};
   for (std::size_t k = 0; k < walls_.obstacles.size(); ++k) {
     const Box& box = walls_.obstacles[k];
-    const bool moving = walls_.moving(k);  // a motion law or a rigid body
+    const bool left_out = walls_.moving(k) && !include_moving;  // a motion law or a rigid body
     // A polygon is its own surface (core/walls/wall_polygon.hpp): no box.
     const bool polygon = walls_.is_polygon(k);
-    polygons_.push_back(polygon && !moving ? walls_.polygons[k] : Polygon{});
-    obstacles_.push_back(moving || polygon ? Box{Vec2(far, far), Vec2(-far, -far)}
-                                           : Box{box.min - Vec2(h, h), box.max + Vec2(h, h)});
+    polygons_.push_back(polygon && !left_out ? walls_.polygons[k] : Polygon{});
+    obstacles_.push_back(left_out || polygon ? nothing : Box{box.min - Vec2(h, h), box.max + Vec2(h, h)});
+    if (include_moving) {
+      moving_.push_back(walls_.moving(k));
+      rest_centroid_.push_back(obstacle_rest_centroid(scene, k));
+    }
   }
+  rest_obstacles_ = include_moving ? obstacles_ : std::vector<Box>{};
+  rest_polygons_ = include_moving ? polygons_ : std::vector<Polygon>{};
+  build_segments();
+}
 
+// The wall surfaces from the tank and the obstacles where they are now.
+void WallGeometry::build_segments() {
+  segments_.clear();
   // Tank sides: along the surface, ending at the neighbouring side's surface, or at the domain
   // edge where that side is open.
   const double x0 = walls_.left ? interior_.min.x() : domain_.min.x();
@@ -47,7 +61,7 @@ WallGeometry::WallGeometry(const Scene& scene)
   // the bed has its bottom face inside the bottom wall) is not a wall surface.
   for (std::size_t k = 0; k < obstacles_.size(); ++k) {
     const Box& s = obstacles_[k];
-    if (s.min.x() > s.max.x()) continue;  // moving
+    if (s.min.x() > s.max.x()) continue;  // left out, or a polygon
     const int body = static_cast<int>(k);
     candidates.push_back({Vec2(s.min.x(), s.max.y()), Vec2(s.max.x(), s.max.y()), Vec2(0.0, 1.0), body});
     candidates.push_back({Vec2(s.min.x(), s.min.y()), Vec2(s.max.x(), s.min.y()), Vec2(0.0, -1.0), body});
@@ -56,6 +70,7 @@ WallGeometry::WallGeometry(const Scene& scene)
   }
   candidates = split_tank_sides_at_polygons(candidates);
   add_polygon_edges(candidates);
+  const double h = half_spacing_;
   for (const WallSegment& segment : candidates) {
     // A probe just in front of the face's middle: on the fluid side of every other solid?
     const Vec2 probe = 0.5 * (segment.a + segment.b) + 1e-6 * h * segment.normal;
@@ -70,6 +85,49 @@ WallGeometry::WallGeometry(const Scene& scene)
     }
     if (!buried) segments_.push_back(segment);
   }
+}
+
+// A box that only translates stays a box (min + d, max + d: at d = 0 the same bits as the box
+// at rest); a polygon, or a box turned by an angle, is moved vertex by vertex about x_c0.
+void WallGeometry::move_obstacles(const std::vector<RigidPose>& poses) {
+  if (!has_moving_obstacles()) return;
+  moving_pose_ = poses;
+  const double far = std::numeric_limits<double>::infinity();
+  for (std::size_t k = 0; k < moving_.size(); ++k) {
+    if (!moving_[k]) continue;
+    const RigidPose& pose = poses[k];
+    const Vec2 centre = rest_centroid_[k] + pose.displacement;
+    const Box& rest = rest_obstacles_[k];
+    const bool box = rest.min.x() <= rest.max.x();
+    if (box && pose.angle == 0.0) {
+      obstacles_[k] = Box{rest.min + pose.displacement, rest.max + pose.displacement};
+      continue;
+    }
+    const Polygon corners =
+        box ? Polygon{rest.min, Vec2(rest.max.x(), rest.min.y()), rest.max, Vec2(rest.min.x(), rest.max.y())}
+            : rest_polygons_[k];
+    polygons_[k].clear();
+    for (const Vec2& vertex : corners) {
+      polygons_[k].push_back(pose.angle == 0.0 ? Vec2(vertex + pose.displacement)  // translated: to the bit at d = 0
+                                               : Vec2(centre + rotated_arm(pose, vertex - rest_centroid_[k])));
+    }
+    obstacles_[k] = Box{Vec2(far, far), Vec2(-far, -far)};
+  }
+  build_segments();
+}
+
+Vec2 WallGeometry::wall_velocity(const WallSegment& segment, const Vec2& x) const {
+  if (!moves(segment)) return Vec2::Zero();
+  const auto k = static_cast<std::size_t>(segment.body);
+  const RigidPose& pose = moving_pose_[k];
+  return rigid_point_velocity(pose, x - (rest_centroid_[k] + pose.displacement));
+}
+
+Vec2 WallGeometry::wall_acceleration(const WallSegment& segment, const Vec2& x) const {
+  if (!moves(segment)) return Vec2::Zero();
+  const auto k = static_cast<std::size_t>(segment.body);
+  const RigidPose& pose = moving_pose_[k];
+  return rigid_point_acceleration(pose, x - (rest_centroid_[k] + pose.displacement));
 }
 
 // A tank side under a polygon (a wedge on the bed) is no surface there: the side is cut where
@@ -219,7 +277,7 @@ std::size_t reflect_crossed_particles(ParticleSet& particles, const WallGeometry
     const double behind = (wall.a - x).dot(wall.normal);  // > 0: behind this surface
     if (behind > 0.0) x += 2.0 * behind * wall.normal;
     Vec2& u = particles.velocity[i];
-    const double normal_speed = u.dot(wall.normal);
+    const double normal_speed = (u - geometry.wall_velocity(wall, x)).dot(wall.normal);  // relative to the wall
     if (normal_speed < 0.0) u -= normal_speed * wall.normal;
     ++moved;
   }

@@ -10,12 +10,20 @@
 // corners on the lattice) holds wall particles on and inside its sides; its surface is the
 // box grown by l0/2. A polygon obstacle (walls.obstacles[k].polygon) is its own surface, its
 // edges segments at any angle (core/walls/wall_polygon.hpp). Every boundary model, with particles or without, thus has
-// its wall at the same place and the same fluid lattice fills the tank. The geometry is that of the fixed walls: an
-// obstacle with a motion law (core/walls/moving_walls.hpp) is left out.
+// its wall at the same place and the same fluid lattice fills the tank.
+//
+// Moving obstacles (a motion law or a body, core/walls/moving_walls.hpp). By default the
+// geometry is that of the fixed walls and a moving obstacle is left out (the stability
+// monitor's penetration check, the position clamp). A boundary model of wall samples asks for
+// them (MovingObstacles::Included) and moves them every step to their poses (move_obstacles):
+// a box translated stays a box, a polygon (or a box turned by an angle) is moved vertex by
+// vertex, x = x_c0 + d + R(theta) (x0 - x_c0), and the segments are rebuilt as at the start.
+// At zero displacement the segments are those of the same obstacle fixed, to the bit.
 #include <cstddef>
 #include <vector>
 
 #include "core/base/particles.hpp"
+#include "core/base/rigid_pose.hpp"
 #include "core/base/types.hpp"
 #include "core/io/scene.hpp"
 #include "core/walls/wall_polygon.hpp"
@@ -29,11 +37,29 @@ struct WallSegment {
   int body = -1;               // -1: the tank; k >= 0: walls.obstacles[k]
 };
 
+enum class MovingObstacles {
+  Excluded,  // the fixed walls only
+  Included,  // moving obstacles too, where move_obstacles last put them (at rest until then)
+};
+
 class WallGeometry {
  public:
-  explicit WallGeometry(const Scene& scene);
+  explicit WallGeometry(const Scene& scene, MovingObstacles moving = MovingObstacles::Excluded);
 
   const std::vector<WallSegment>& segments() const { return segments_; }
+  // Whether the geometry holds an obstacle that moves (MovingObstacles::Included and the scene
+  // has one).
+  bool has_moving_obstacles() const { return !rest_centroid_.empty(); }
+  // Every moving obstacle k to poses[k] (one per obstacle; core/base/rigid_pose.hpp), the
+  // segments rebuilt. Fixed obstacles ignore their entry.
+  void move_obstacles(const std::vector<RigidPose>& poses);
+  // The velocity (m/s) and acceleration (m/s^2) of the wall surface `segment` at the point x
+  // (of the solid moving with it): the rigid motion of its obstacle's pose, zero for a fixed wall.
+  Vec2 wall_velocity(const WallSegment& segment, const Vec2& x) const;
+  Vec2 wall_acceleration(const WallSegment& segment, const Vec2& x) const;
+  bool moves(const WallSegment& segment) const {
+    return segment.body >= 0 && !moving_pose_.empty() && moving_[static_cast<std::size_t>(segment.body)];
+  }
   double surface_offset() const { return half_spacing_; }  // l0 / 2, m
 
   // Whether x lies beyond a wall surface: behind a tank side (within the side's `layers`
@@ -53,6 +79,7 @@ class WallGeometry {
   double distance_to(const Vec2& x, std::size_t k) const;
 
  private:
+  void build_segments();
   bool past_open_side(const Vec2& x) const;
   bool inside_polygon_solid(const Vec2& x, std::size_t k) const;
   void add_polygon_edges(std::vector<WallSegment>& candidates) const;
@@ -64,13 +91,20 @@ class WallGeometry {
   std::vector<Box> obstacles_;     // surface boxes (the obstacle grown by l0/2); empty for a polygon
   std::vector<Polygon> polygons_;  // per obstacle: its surface polygon, counter-clockwise; empty for a box
   double half_spacing_ = 0.0;
+  // Moving obstacles (MovingObstacles::Included): per obstacle, whether it moves, its surface
+  // box and polygon where the scene puts them, and its reference point x_c0 (m); empty otherwise.
+  std::vector<bool> moving_;
+  std::vector<Box> rest_obstacles_;
+  std::vector<Polygon> rest_polygons_;
+  std::vector<Vec2> rest_centroid_;
+  std::vector<RigidPose> moving_pose_;  // per obstacle, the last move_obstacles (empty until then)
 };
 
 // The kinematic no-penetration condition of the boundary models of wall samples
 // (docs/walls.md): a fluid particle found behind a wall surface is reflected back across the
-// surface nearest to it, x <- x + 2 d n, and its velocity into the wall is removed,
-// u_n <- max(u_n, 0). Returns how many particles it moved. Mirror-particle codes treat
-// particles that cross the mirror line this way (e.g. Randles & Libersky 1996).
+// surface nearest to it, x <- x + 2 d n, and its velocity into the wall relative to the wall's
+// is removed, (u - u_w) . n <- max((u - u_w) . n, 0) (u_w = 0 for a wall at rest). Returns how many particles it moved.
+// Mirror-particle codes treat particles that cross the mirror line this way (e.g. Randles & Libersky 1996).
 std::size_t reflect_crossed_particles(ParticleSet& particles, const WallGeometry& geometry);
 
 }  // namespace mps_lab

@@ -10,12 +10,15 @@
 //   position   x_w                       (m)
 //   volume     V_w = volume l0^2         (a lattice point has volume 1: it counts as one
 //                                         particle in n_i, as m = rho0 V_w in an SPH sum)
-//   velocity   u_w = velocity_map u_s    (s = source; the zero matrix for a fixed wall,
-//                                         a reflection for a mirror image)
-//   pressure   p_w = p_s + rho0 g . (x_w - x_s)
+//   velocity   u_w = velocity_map u_s + wall_velocity
+//                                        (s = source; the zero matrix for a fixed wall,
+//                                         a reflection for a mirror image; wall_velocity is 0
+//                                         for a wall at rest, (I - velocity_map) u_wall for a
+//                                         moving one: the image of u_s relative to the wall)
+//   pressure   p_w = p_s + rho0 (g - a_wall) . (x_w - x_s)
 //              (hydrostatic extrapolation from the source particle s; Adami, Hu & Adams
-//               2012 eq. 27 with the fluid sum restricted to s; for s = i the wall terms
-//               of the PPE become known values)
+//               2012 eq. 27 with the fluid sum restricted to s, a_wall the wall's
+//               acceleration; for s = i the wall terms of the PPE become known values)
 // s is i itself (dummy layers, distance function: a Neumann wall that carries the particle's
 // own pressure) or the fluid particle j the sample mirrors (mirror particles).
 #include <cstdint>
@@ -34,6 +37,10 @@ struct WallSample {
   Mat2 velocity_map = Mat2::Zero();  // u_w = velocity_map * u_source
   std::uint32_t source = 0;          // the particle whose pressure and velocity it carries
   double volume = 1.0;               // V_w / l0^2
+  // A moving wall (walls.obstacles[k].motion): the velocity term of u_w (above) and the wall's
+  // acceleration a_wall at x_w; zero for a wall at rest.
+  Vec2 wall_velocity = Vec2::Zero();      // m/s
+  Vec2 wall_acceleration = Vec2::Zero();  // m/s^2
 };
 
 // Compressed rows as NeighbourList: the samples of particle i are
@@ -55,18 +62,20 @@ struct WallSampleList {
 // p_w of a sample (see above), Pa.
 inline double sample_pressure(const WallSample& sample, const std::vector<double>& pressure,
                               const std::vector<Vec2>& position, double rest_density, const Vec2& gravity) {
-  return pressure[sample.source] + rest_density * gravity.dot(sample.position - position[sample.source]);
+  return pressure[sample.source] +
+         rest_density * (gravity - sample.wall_acceleration).dot(sample.position - position[sample.source]);
 }
 
-// The hydrostatic part rho0 g . (x_w - x_s) alone, Pa: what the PPE moves to its right-hand side.
+// The hydrostatic part rho0 (g - a_wall) . (x_w - x_s) alone, Pa: what the PPE moves to its
+// right-hand side.
 inline double sample_pressure_offset(const WallSample& sample, const std::vector<Vec2>& position, double rest_density,
                                      const Vec2& gravity) {
-  return rest_density * gravity.dot(sample.position - position[sample.source]);
+  return rest_density * (gravity - sample.wall_acceleration).dot(sample.position - position[sample.source]);
 }
 
 // u_w of a sample, m/s.
 inline Vec2 sample_velocity(const WallSample& sample, const std::vector<Vec2>& velocity) {
-  return sample.velocity_map * velocity[sample.source];
+  return sample.velocity_map * velocity[sample.source] + sample.wall_velocity;
 }
 
 }  // namespace mps_lab

@@ -233,7 +233,7 @@ class EisphMethod final : public Method {
                                                                          : Vec2::Zero();
     }
     isph::velocity_divergence(particles, neighbours_, samples_, kernel_, mass_, rest_density_field_,
-                              predicted_velocity_, Vec2(dt * gravity), divergence);
+                              predicted_velocity_, Vec2(dt * gravity), dt, divergence);
     // S_i, 1/s^2: div u*/dt (Cummins & Rudman 1999) + alpha (rho0 - rho*)/(rho0 dt^2) (Asai et al.
     // 2012; the notes' stabilisation, "圧力の安定化"); alpha = 0 for velocity_divergence, 1 for
     // density_invariance (Shao & Lo 2003) without the divergence term.

@@ -286,7 +286,7 @@ class IsphMethod final : public Method {
       // mirror image the mirrored motion of its source relative to that (docs/methods/isph.md,
       // "Wall boundary models": with u*_w = M_w u*_s the hydrostatic head is counted twice).
       velocity_divergence(particles, neighbours_, samples_, kernel_, mass_, rho, predicted_velocity, Vec2(dt * gravity),
-                          divergence);
+                          dt, divergence);
       compute_source(particles, density, divergence, dt);
     }
   }

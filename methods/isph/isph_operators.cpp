@@ -89,7 +89,7 @@ void add_viscous_acceleration(const ParticleSet& particles, const NeighbourList&
 void velocity_divergence(const ParticleSet& particles, const NeighbourList& neighbours, const WallSampleList& samples,
                          const SphKernel& kernel, double mass, const std::vector<double>& density,
                          const std::vector<Vec2>& velocity, const Vec2& sample_base_velocity,
-                         std::vector<double>& out) {
+                         double sample_base_time_step, std::vector<double>& out) {
   out.assign(particles.size(), 0.0);
   for_each_fluid_particle(particles, [&](std::ptrdiff_t i) {
     double sum = 0.0;
@@ -100,7 +100,9 @@ void velocity_divergence(const ParticleSet& particles, const NeighbourList& neig
     });
     for_each_neighbour(samples, i, [&](const WallSample& wall) {
       if (particles.type[wall.source] == ParticleType::Ghost) return;
-      const Vec2 u_w = sample_base_velocity + wall.velocity_map * (velocity[wall.source] - sample_base_velocity);
+      // b - dt a_w + M (u_s - (b - dt a_w)) + (I - M) u_wall: relative to a moving wall's predicted motion
+      const Vec2 base = sample_base_velocity - sample_base_time_step * wall.wall_acceleration;
+      const Vec2 u_w = base + wall.velocity_map * (velocity[wall.source] - base) + wall.wall_velocity;
       sum += mass * wall.volume * (u_w - velocity[i]).dot(kernel.gradient(particles.position[i] - wall.position));
     });
     out[i] = sum / density[i];

@@ -118,14 +118,18 @@ inline void add_viscous_acceleration(const ParticleSet& particles, const Neighbo
 // A wall sample (mass m V_w) moves with u_w = b + M_w (u_s - b), b = `sample_base_velocity`:
 // the velocity map acts on the motion relative to b. b = 0 is u_w = M_w u_s; the method passes
 // b = dt g for the predicted velocity u*, the velocity a wall point at rest has in u* (as its
-// wall particles: isph_method.cpp, docs/methods/isph.md).
+// wall particles: isph_method.cpp, docs/methods/isph.md). A sample of a moving wall has
+// b = u_wall + dt (g - a_w) (dt = `sample_base_time_step`, s; its wall particles' u*): the
+// sample's wall_velocity (I - M_w) u_wall is added and b lowered by dt a_w.
 void velocity_divergence(const ParticleSet& particles, const NeighbourList& neighbours, const WallSampleList& samples,
                          const SphKernel& kernel, double mass, const std::vector<double>& density,
-                         const std::vector<Vec2>& velocity, const Vec2& sample_base_velocity, std::vector<double>& out);
+                         const std::vector<Vec2>& velocity, const Vec2& sample_base_velocity,
+                         double sample_base_time_step, std::vector<double>& out);
 inline void velocity_divergence(const ParticleSet& particles, const NeighbourList& neighbours, const SphKernel& kernel,
                                 double mass, const std::vector<double>& density, const std::vector<Vec2>& velocity,
                                 std::vector<double>& out) {
-  velocity_divergence(particles, neighbours, no_wall_samples(), kernel, mass, density, velocity, Vec2::Zero(), out);
+  velocity_divergence(particles, neighbours, no_wall_samples(), kernel, mass, density, velocity, Vec2::Zero(), 0.0,
+                      out);
 }
 
 // <div r>_i = -sum_j (m / rho_j) r_ij . grad W_ij (Lee et al. 2008, sec. 2.4), for fluid
