@@ -37,6 +37,22 @@ inline Scene load(const std::string& name, const std::vector<std::string>& overr
 }
 
 // The one-line error of scenes/<name> with `overrides`, "" if the scene loads.
+// The scene overrides that make `model` the boundary model of `method` in the scene file `name`:
+// "method=...", the model enabled, the scene's other enabled boundary model of that method off
+// (the measures keep the scene's settings).
+inline std::vector<std::string> boundary_model_overrides(const std::string& name, const std::string& method,
+                                                         const std::string& model) {
+  std::vector<std::string> overrides = {"method=" + method,
+                                        "methods." + method + ".wall_treatments." + model + ".enabled=true"};
+  const Scene scene = load(name, {"method=" + method});
+  for (const WallTreatmentChoice& choice : scene.method_config(method).wall_treatments) {
+    if (choice.enabled && choice.info->role == WallTreatmentRole::Boundary && choice.info->name != model) {
+      overrides.push_back("methods." + method + ".wall_treatments." + choice.info->name + ".enabled=false");
+    }
+  }
+  return overrides;
+}
+
 inline std::string scene_error(const std::string& name, const std::vector<std::string>& overrides) {
   try {
     load(name, overrides);

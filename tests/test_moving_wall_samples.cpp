@@ -1,9 +1,10 @@
 // Moving walls with the boundary models of wall samples (core/walls/wall_sample_model.hpp:
 // dummy_layers, mirror_particles, distance_function; docs/walls.md "Moving walls"): the
 // samples of a moved gate lie where its pose puts it and carry its motion
-// (u_w = M u_s + (I - M) u_wall, a_w in p_w = p_s + rho0 (g - a_w) . (x_w - x_s)), a law that
-// does not move gives the bits of a fixed obstacle, a resumed run the bits of an uninterrupted
-// one, and the gated dam break releases its water with every method and model. The models and
+// (u_w = M u_s + (I - M) u_wall, a_w in p_w = p_s + rho0 (g - a_w) . (x_w - x_s)), its foot at the
+// bed's surface once lifted, and a resumed run gives the bits of an uninterrupted one (a law that
+// does not move gives the bits of a fixed obstacle, and the gated dam break its front, with every
+// boundary model: tests/test_moving_walls.cpp). The models and
 // methods come from their declarations (WallTreatmentInfo::moving_walls, MethodInfo::moving_walls,
 // wall_treatment_supports): a new model of wall samples is tested here without editing this file.
 #include <catch2/catch.hpp>
@@ -14,6 +15,7 @@
 #include "core/io/geometry.hpp"
 #include "core/run/driver.hpp"
 #include "core/search/neighbour_search.hpp"
+#include "core/walls/wall_geometry.hpp"
 #include "core/walls/wall_treatment.hpp"
 #include "lab/compare.hpp"
 #include "support.hpp"
@@ -44,25 +46,9 @@ std::vector<const MethodInfo*> methods_for(const WallTreatmentInfo& model) {
   return methods;
 }
 
-// The scene override that makes `model` the boundary model of `method` (the measures at their defaults).
-std::string boundary(const std::string& method, const std::string& model) {
-  return "methods." + method + ".wall_treatments." + model + ".enabled=true";
-}
-
-// The default boundary model of `method` in `scene` switched off, `model` on.
-std::vector<std::string> with_model(const Scene& defaults, const std::string& method, const std::string& model) {
-  std::vector<std::string> overrides = {"method=" + method, boundary(method, model)};
-  for (const WallTreatmentChoice& choice : defaults.method_config(method).wall_treatments) {
-    if (choice.enabled && choice.info->role == WallTreatmentRole::Boundary && choice.info->name != model) {
-      overrides.push_back("methods." + method + ".wall_treatments." + choice.info->name + ".enabled=false");
-    }
-  }
-  return overrides;
-}
-
 Scene scene_with_model(const std::string& file, const std::string& method, const std::string& model,
                        std::vector<std::string> extra = {}) {
-  std::vector<std::string> overrides = with_model(load(file, {"method=" + method}), method, model);
+  std::vector<std::string> overrides = boundary_model_overrides(file, method, model);
   overrides.insert(overrides.end(), extra.begin(), extra.end());
   return load(file, overrides);
 }
@@ -76,6 +62,51 @@ TEST_CASE("moving wall samples: every built-in model of wall samples moves walls
     INFO(model->name);
     CHECK(!methods_for(*model).empty());
   }
+}
+
+TEST_CASE("moving wall samples: the moved gate's foot is the bed's surface lifted by d, its faces follow the pose",
+          "[walls][moving]") {
+  // scenes/dambreak_gate.json, l0 = 0.025 m: the gate x = 0.25 ... 0.275 m, y = 0 ... 0.55 m; its
+  // surface the box grown by l0/2. At rest the geometry is the fixed obstacle's (its bottom face
+  // buried in the bed, no segment); lifted by d its box is cut at the bed's surface first, so its
+  // bottom face lies at y = l0/2 + d (where its lowest wall-particle row, y = l0, puts it: the
+  // bed keeps the row at y = 0), and the gap under it is d.
+  const Scene scene = load("dambreak_gate.json");
+  const double l0 = scene.particle_spacing;
+  WallGeometry geometry(scene, MovingObstacles::Included);
+  REQUIRE(geometry.has_moving_obstacles());
+  const auto faces_of_gate = [&](const WallGeometry& g) {
+    std::vector<WallSegment> faces;
+    for (const WallSegment& segment : g.segments()) {
+      if (segment.body == 0) faces.push_back(segment);
+    }
+    return faces;
+  };
+  for (const WallSegment& face : faces_of_gate(geometry)) CHECK(face.normal.y() != -1.0);  // no bottom face at rest
+  std::vector<RigidPose> poses(1);
+  poses[0].displacement = Vec2(0.0, 0.1);
+  poses[0].velocity = Vec2(0.0, 2.0);
+  geometry.move_obstacles(poses);
+  std::size_t bottom = 0, sides = 0;
+  for (const WallSegment& face : faces_of_gate(geometry)) {
+    if (face.normal.y() == -1.0) {
+      ++bottom;
+      CHECK(face.a.y() == Approx(0.5 * l0 + 0.1).margin(1e-12));
+      CHECK(std::min(face.a.x(), face.b.x()) == Approx(0.25 - 0.5 * l0).margin(1e-12));
+      CHECK(std::max(face.a.x(), face.b.x()) == Approx(0.275 + 0.5 * l0).margin(1e-12));
+    }
+    if (std::fabs(face.normal.x()) == 1.0) {
+      ++sides;
+      CHECK(std::min(face.a.y(), face.b.y()) == Approx(0.5 * l0 + 0.1).margin(1e-12));
+      CHECK(std::max(face.a.y(), face.b.y()) == Approx(0.55 + 0.5 * l0 + 0.1).margin(1e-12));
+    }
+    CHECK(geometry.wall_velocity(face, 0.5 * (face.a + face.b)) == Vec2(0.0, 2.0));
+  }
+  CHECK(bottom == 1);
+  CHECK(sides == 2);
+  // Inside the gap (under the lifted gate) is fluid space; inside the gate is solid.
+  CHECK(!geometry.inside_solid(Vec2(0.2625, 0.5 * l0 + 0.05)));
+  CHECK(geometry.inside_solid(Vec2(0.2625, 0.5 * l0 + 0.15)));
 }
 
 TEST_CASE("moving wall samples: the samples of a moved gate lie in it and carry its velocity and acceleration",
@@ -131,47 +162,9 @@ TEST_CASE("moving wall samples: the samples of a moved gate lie in it and carry 
         CHECK(sample.wall_acceleration.norm() == 0.0);
       }
     }
-    CHECK(in_gate > 0);     // the probe at y = 0.3 m sees the gate's face
-    CHECK(elsewhere > 0);   // the column sees the tank
+    CHECK(in_gate > 0);            // the probe at y = 0.3 m sees the gate's face
+    CHECK(elsewhere > 0);          // the column sees the tank
     CHECK(in_old_gate_only == 0);  // the gate's foot, 0.1 m below where it is now, is gone
-  }
-}
-
-TEST_CASE("moving wall samples: a law that does not move costs nothing - bit-identical to a fixed obstacle",
-          "[walls][moving]") {
-  // scenes/dambreak_obstacle.json, 60 steps, obstacle fixed and with a law of zero velocity:
-  // the moving geometry at zero displacement is the fixed one to the bit (box + 0), and the
-  // motion terms add exact zeros; every method and model of wall samples. The monitor's wall
-  // penetration limit is lifted: dfsph with distance_function lets a particle into the thin
-  // obstacle (docs/walls.md, fixed or not), which is not what this test is about.
-  for (const WallTreatmentInfo* model : moving_sample_models()) {
-    for (const MethodInfo* info : methods_for(*model)) {
-      INFO(info->name << " with " << model->name);
-      const Scene fixed =
-          scene_with_model("dambreak_obstacle.json", info->name, model->name,
-                           {"diagnostics.pressure_sensors=[]", "stability.max_wall_penetrations=1000000"});
-      auto moving_json = fixed.document;
-      moving_json["walls"]["obstacles"][0]["motion"] = {{"law", "constant_velocity"}, {"velocity", {0.0, 0.0}}};
-      const Scene moving = parse_scene(moving_json, fixed.source, registries().methods, registries().walls);
-      REQUIRE(moving.walls.any_moving());
-      Simulation a(fixed, *info), b(moving, *info);
-      for (int step = 0; step < 60; ++step) {
-        a.advance();
-        b.advance();
-      }
-      const ParticleSet& pa = a.particles();
-      const ParticleSet& pb = b.particles();
-      REQUIRE(pa.size() == pb.size());
-      std::size_t different = 0;
-      for (std::size_t i = 0; i < pa.size(); ++i) {
-        if (pa.position[i] != pb.position[i] || pa.velocity[i] != pb.velocity[i] || pa.pressure[i] != pb.pressure[i]) {
-          ++different;
-        }
-      }
-      CHECK(different == 0);
-      CHECK(pa.obstacle_pose.empty());   // fixed walls carry no poses
-      CHECK(pb.obstacle_pose.size() == 1);
-    }
   }
 }
 
@@ -184,7 +177,7 @@ TEST_CASE("moving wall samples: interrupted and resumed = uninterrupted with a m
     for (const MethodInfo* info : methods_for(*model)) {
       const std::string& method = info->name;
       INFO(method << " with " << model->name);
-      const std::vector<std::string> overrides = with_model(load("dambreak_gate.json"), method, model->name);
+      const std::vector<std::string> overrides = boundary_model_overrides("dambreak_gate.json", method, model->name);
       const auto full_dir = fresh_directory("moving_samples_full_" + method + "_" + model->name);
       const auto part_dir = fresh_directory("moving_samples_part_" + method + "_" + model->name);
       const auto run = [&](const fs::path& folder, long long stop_after) {

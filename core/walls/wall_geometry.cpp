@@ -39,6 +39,13 @@ WallGeometry::WallGeometry(const Scene& scene, MovingObstacles moving)
     }
   }
   rest_obstacles_ = include_moving ? obstacles_ : std::vector<Box>{};
+  // A moving box's surface once it has left its scene position: the part of the grown box behind
+  // a tank wall's surface is cut off, as the tank keeps the wall particles both hold (a gate on
+  // the bed leaves the bed's row: its foot is the bed's surface, and a gap opens as it rises).
+  for (const Box& box : rest_obstacles_) {
+    rest_clipped_.push_back(
+        box.min.x() > box.max.x() ? box : Box{box.min.cwiseMax(interior_.min), box.max.cwiseMin(interior_.max)});
+  }
   rest_polygons_ = include_moving ? polygons_ : std::vector<Polygon>{};
   build_segments();
 }
@@ -97,7 +104,9 @@ void WallGeometry::move_obstacles(const std::vector<RigidPose>& poses) {
     if (!moving_[k]) continue;
     const RigidPose& pose = poses[k];
     const Vec2 centre = rest_centroid_[k] + pose.displacement;
-    const Box& rest = rest_obstacles_[k];
+    // At its scene position the box is the fixed obstacle's (to the bit), once moved the cut one.
+    const bool at_rest = pose.displacement.isZero(0.0) && pose.angle == 0.0;
+    const Box& rest = at_rest ? rest_obstacles_[k] : rest_clipped_[k];
     const bool box = rest.min.x() <= rest.max.x();
     if (box && pose.angle == 0.0) {
       obstacles_[k] = Box{rest.min + pose.displacement, rest.max + pose.displacement};

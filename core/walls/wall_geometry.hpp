@@ -18,7 +18,9 @@
 // them (MovingObstacles::Included) and moves them every step to their poses (move_obstacles):
 // a box translated stays a box, a polygon (or a box turned by an angle) is moved vertex by
 // vertex, x = x_c0 + d + R(theta) (x0 - x_c0), and the segments are rebuilt as at the start.
-// At zero displacement the segments are those of the same obstacle fixed, to the bit.
+// At zero displacement the segments are those of the same obstacle fixed, to the bit; once
+// moved, a box is first cut at the tank's wall surfaces (a gate standing on the bed has its foot
+// at the bed's surface, as its wall particles: the bed's row stays with the tank).
 #include <cstddef>
 #include <vector>
 
@@ -95,6 +97,7 @@ class WallGeometry {
   // box and polygon where the scene puts them, and its reference point x_c0 (m); empty otherwise.
   std::vector<bool> moving_;
   std::vector<Box> rest_obstacles_;
+  std::vector<Box> rest_clipped_;  // rest_obstacles_ cut at the tank's wall surfaces (move_obstacles)
   std::vector<Polygon> rest_polygons_;
   std::vector<Vec2> rest_centroid_;
   std::vector<RigidPose> moving_pose_;  // per obstacle, the last move_obstacles (empty until then)

@@ -32,12 +32,13 @@ class WallPositionClamp final : public WallTreatment {
       // A moving obstacle (walls.obstacles[k].motion or .body) is kept out of by its moving
       // wall particles, not clamped at its initial box or polygon; with wall samples, where its pose puts it.
       if (setup.scene.walls.moving(k)) {
-        MovingObstacle moving{k, {}, {}, obstacle_rest_centroid(setup.scene, k)};
+        MovingObstacle moving{k, {}, {}, {}, obstacle_rest_centroid(setup.scene, k)};
         const Box& box = setup.scene.walls.obstacles[k];
         if (setup.scene.walls.is_polygon(k)) {
           moving.polygon = setup.scene.walls.polygons[k];
         } else {
           moving.box = {box.min - Vec2(offset, offset), box.max + Vec2(offset, offset)};
+          moving.clipped = clipped_at_walled_sides(moving.box);
         }
         moving_.push_back(moving);
         continue;
@@ -59,9 +60,21 @@ class WallPositionClamp final : public WallTreatment {
   struct MovingObstacle {
     std::size_t index;   // walls.obstacles[index]
     Box box;             // m; unused for a polygon
+    Box clipped;         // box cut at the clamp lines of the walled sides, m (once moved)
     Polygon polygon;     // m; empty for a box
     Vec2 rest_centroid;  // x_c0, m (core/base/rigid_pose.hpp)
   };
+
+  // A moving box once it has left its scene position: cut at the walled sides' clamp lines, as
+  // WallGeometry::move_obstacles cuts its surface (the tank keeps the wall particles both hold:
+  // a gate on the bed has its foot at the bed).
+  Box clipped_at_walled_sides(Box box) const {
+    if (walls_.left) box.min.x() = std::max(box.min.x(), low_.x());
+    if (walls_.bottom) box.min.y() = std::max(box.min.y(), low_.y());
+    if (walls_.right) box.max.x() = std::min(box.max.x(), high_.x());
+    if (walls_.top) box.max.y() = std::min(box.max.y(), high_.y());
+    return box;
+  }
 
   void clamp(ParticleSet& particles) const {
     const auto n = static_cast<std::ptrdiff_t>(particles.size());
@@ -102,6 +115,8 @@ class WallPositionClamp final : public WallTreatment {
     for (MovingObstacle& obstacle : placed) {
       const RigidPose& pose = poses[obstacle.index];
       const bool box = obstacle.polygon.empty();
+      // At its scene position the fixed obstacle's box (to the bit), once moved the cut one.
+      if (box && !(pose.displacement.isZero(0.0) && pose.angle == 0.0)) obstacle.box = obstacle.clipped;
       if (box && pose.angle == 0.0) {
         obstacle.box = {obstacle.box.min + pose.displacement, obstacle.box.max + pose.displacement};
         continue;
