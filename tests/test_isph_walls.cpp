@@ -124,6 +124,21 @@ TEST_CASE(
                               divergence);
     for (std::size_t i = 0; i < n; ++i) CHECK(std::fabs(divergence[i]) < 1e-12);
 
+    // (2') The same in a frame moving with the walls: every sample of a wall moving at U with
+    // acceleration a (wall_velocity (I - M) U, wall_acceleration a; core/walls/wall_samples.hpp)
+    // and every fluid particle at its wall's u* = U + dt (g - a) (as isph's moving wall particles):
+    // div u* = 0 again; a sample must move with U + dt (g - a) + M (u*_s - that).
+    const Vec2 wall_speed(0.7, -0.4), wall_acceleration(3.0, 5.0);  // m/s, m/s^2
+    WallSampleList moving_samples = t.samples;
+    for (WallSample& sample : moving_samples.samples) {
+      sample.wall_velocity = (Mat2::Identity() - sample.velocity_map) * wall_speed;
+      sample.wall_acceleration = wall_acceleration;
+    }
+    const std::vector<Vec2> moving_predicted(n, Vec2(wall_speed + dt * (g - wall_acceleration)));
+    isph::velocity_divergence(p, t.neighbours, moving_samples, t.kernel, t.mass, rest, moving_predicted, Vec2(dt * g),
+                              dt, divergence);
+    for (std::size_t i = 0; i < n; ++i) CHECK(std::fabs(divergence[i]) < 1e-11);
+
     // (3) p = rho0 |g| (top - y): every sample carries p_s + rho0 g . (x_w - x_s), the same
     // linear field, so the renormalised gradient is exact at every particle (samples in the
     // moment matrix) and the PPE Laplacian vanishes with a full support.

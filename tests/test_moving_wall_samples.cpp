@@ -109,6 +109,33 @@ TEST_CASE("moving wall samples: the moved gate's foot is the bed's surface lifte
   CHECK(geometry.inside_solid(Vec2(0.2625, 0.5 * l0 + 0.15)));
 }
 
+TEST_CASE("moving wall samples: crossing a moving face - reflected, the velocity into it relative to it removed",
+          "[walls][moving]") {
+  // The gate lifted by 0.1 m and moving right at 1 m/s (its left face x = 0.2375 m, normal -x).
+  // Three fluid particles 1 mm behind the face at y = 0.3 m: moving right at 0.5 m/s (slower than
+  // the face: leaving it, relative normal speed +0.5, kept), at 1.5 m/s (into it at 0.5 m/s
+  // relative: the normal part becomes the face's, 1 m/s), and at rest (the face moves away from
+  // it: kept at 0; a rule on the absolute velocity would stop the first two, u_n -> 0). Each is
+  // reflected to 1 mm in front of the face; the tangential speed stays.
+  const Scene scene = load("dambreak_gate.json");
+  WallGeometry geometry(scene, MovingObstacles::Included);
+  std::vector<RigidPose> poses(1);
+  poses[0].displacement = Vec2(0.0, 0.1);
+  poses[0].velocity = Vec2(1.0, 0.0);
+  geometry.move_obstacles(poses);
+  const double face = 0.25 - 0.5 * scene.particle_spacing;  // m
+  ParticleSet particles;
+  for (const double u : {0.5, 1.5, 0.0}) particles.add(Vec2(face + 1e-3, 0.3), Vec2(u, 0.2), ParticleType::Fluid);
+  CHECK(reflect_crossed_particles(particles, geometry) == 3);
+  const double expected[] = {0.5, 1.0, 0.0};
+  for (std::size_t i = 0; i < 3; ++i) {
+    INFO("particle " << i);
+    CHECK(particles.position[i].x() == Approx(face - 1e-3).margin(1e-12));
+    CHECK(particles.velocity[i].x() == Approx(expected[i]).margin(1e-12));
+    CHECK(particles.velocity[i].y() == 0.2);
+  }
+}
+
 TEST_CASE("moving wall samples: the samples of a moved gate lie in it and carry its velocity and acceleration",
           "[walls][moving]") {
   // The gate of scenes/dambreak_gate.json (x = 0.25 ... 0.275 m, surface l0/2 beyond) put at
@@ -205,4 +232,50 @@ TEST_CASE("moving wall samples: interrupted and resumed = uninterrupted with a m
       CHECK(series_rows_without_wall_seconds(part_dir) == series_rows_without_wall_seconds(full_dir));
     }
   }
+}
+
+TEST_CASE("moving wall samples: mirror images at the corner of a box sliding on the bed carry the mean wall motion",
+          "[walls][moving]") {
+  // The gate of scenes/dambreak_gate.json moved 0.05 m along the bed at u = (0.8, 0) m/s,
+  // a = (2, 0) m/s^2: once moved, its surface box is cut at the bed's surface, so its left face
+  // (x = 0.2875 m) meets the bed (y = 0.0125 m) in a concave corner c. A fluid particle at
+  // c + (-0.01, 0.01) m has three images: across the bed (at rest: no motion), across the face
+  // (free slip, M = I - 2 n n^T: wall_velocity (I - M) u = 2 (n . u) n = (1.6, 0) m/s, a) and
+  // through the corner (M = -I: (I - M) u_c = 2 u_c with u_c the surfaces' mean, (0.4, 0): (0.8, 0)
+  // m/s; acceleration the mean, (1, 0) m/s^2).
+  const std::vector<std::string> overrides = boundary_model_overrides("dambreak_gate.json", "isph", "mirror_particles");
+  const MethodInfo* isph = registries().methods.find("isph");
+  if (isph == nullptr) return;
+  const Scene scene = load("dambreak_gate.json", overrides);
+  const Vec2 corner(0.2875, 0.0125), x = corner + Vec2(-0.01, 0.01);
+  ParticleSet particles;
+  particles.add(x, Vec2::Zero(), ParticleType::Fluid);
+  particles.obstacle_pose.assign(1, RigidPose{});
+  particles.obstacle_pose[0].displacement = Vec2(0.05, 0.0);
+  particles.obstacle_pose[0].velocity = Vec2(0.8, 0.0);
+  particles.obstacle_pose[0].acceleration = Vec2(2.0, 0.0);
+  const double support = 2.1 * scene.particle_spacing;
+  const NeighbourList neighbours = find_neighbours(particles.position, particles.type, support);
+  WallTreatmentSet set(scene.method_config("isph").wall_treatments, scene);
+  WallContext context{particles, &neighbours, 5e-4, scene};
+  context.support = support;
+  WallSampleList samples;
+  set.build_wall_samples(context, samples);
+  const auto find = [&](const Vec2& at) -> const WallSample* {
+    for (const WallSample& sample : samples.samples) {
+      if ((sample.position - at).norm() < 1e-12) return &sample;
+    }
+    return nullptr;
+  };
+  const WallSample* bed = find(Vec2(x.x(), 2.0 * corner.y() - x.y()));
+  const WallSample* face = find(Vec2(2.0 * corner.x() - x.x(), x.y()));
+  const WallSample* through = find(2.0 * corner - x);
+  REQUIRE(bed != nullptr);
+  REQUIRE(face != nullptr);
+  REQUIRE(through != nullptr);
+  CHECK(bed->wall_velocity == Vec2::Zero());
+  CHECK((face->wall_velocity - Vec2(1.6, 0.0)).norm() < 1e-12);
+  CHECK((face->wall_acceleration - Vec2(2.0, 0.0)).norm() < 1e-12);
+  CHECK((through->wall_velocity - Vec2(0.8, 0.0)).norm() < 1e-12);
+  CHECK((through->wall_acceleration - Vec2(1.0, 0.0)).norm() < 1e-12);
 }
