@@ -103,7 +103,6 @@ void WallGeometry::move_obstacles(const std::vector<RigidPose>& poses) {
   for (std::size_t k = 0; k < moving_.size(); ++k) {
     if (!moving_[k]) continue;
     const RigidPose& pose = poses[k];
-    const Vec2 centre = rest_centroid_[k] + pose.displacement;
     // At its scene position the box is the fixed obstacle's (to the bit), once moved the cut one.
     const bool at_rest = pose.displacement.isZero(0.0) && pose.angle == 0.0;
     const Box& rest = at_rest ? rest_obstacles_[k] : rest_clipped_[k];
@@ -112,14 +111,7 @@ void WallGeometry::move_obstacles(const std::vector<RigidPose>& poses) {
       obstacles_[k] = Box{rest.min + pose.displacement, rest.max + pose.displacement};
       continue;
     }
-    const Polygon corners =
-        box ? Polygon{rest.min, Vec2(rest.max.x(), rest.min.y()), rest.max, Vec2(rest.min.x(), rest.max.y())}
-            : rest_polygons_[k];
-    polygons_[k].clear();
-    for (const Vec2& vertex : corners) {
-      polygons_[k].push_back(pose.angle == 0.0 ? Vec2(vertex + pose.displacement)  // translated: to the bit at d = 0
-                                               : Vec2(centre + rotated_arm(pose, vertex - rest_centroid_[k])));
-    }
+    polygons_[k] = posed_polygon(box ? box_polygon(rest.min, rest.max) : rest_polygons_[k], rest_centroid_[k], pose);
     obstacles_[k] = Box{Vec2(far, far), Vec2(-far, -far)};
   }
   build_segments();

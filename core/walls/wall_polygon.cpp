@@ -145,4 +145,19 @@ std::vector<std::pair<Vec2, int>> polygon_wall_points(const Polygon& polygon, do
   return points;
 }
 
+Polygon box_polygon(const Vec2& low, const Vec2& high) {
+  return {low, Vec2(high.x(), low.y()), high, Vec2(low.x(), high.y())};
+}
+
+Polygon posed_polygon(const Polygon& rest, const Vec2& rest_centroid, const RigidPose& pose) {
+  Polygon placed;
+  placed.reserve(rest.size());
+  const Vec2 centre = rest_centroid + pose.displacement;
+  for (const Vec2& vertex : rest) {
+    placed.push_back(pose.angle == 0.0 ? Vec2(vertex + pose.displacement)
+                                       : Vec2(centre + rotated_arm(pose, vertex - rest_centroid)));
+  }
+  return placed;
+}
+
 }  // namespace mps_lab

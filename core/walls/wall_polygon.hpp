@@ -12,6 +12,7 @@
 #include <utility>
 #include <vector>
 
+#include "core/base/rigid_pose.hpp"
 #include "core/base/types.hpp"
 
 namespace mps_lab {
@@ -32,6 +33,13 @@ double distance_to_polygon(const Vec2& x, const Polygon& polygon, std::size_t* e
 double depth_inside_polygon(const Vec2& x, const Polygon& polygon);
 // The unit normal of edge k of a counter-clockwise polygon, pointing out of it (into the fluid).
 Vec2 outward_normal(const Polygon& polygon, std::size_t k);
+
+// The corners of the axis-aligned box [low, high], counter-clockwise from low.
+Polygon box_polygon(const Vec2& low, const Vec2& high);
+// A polygon where a pose (core/base/rigid_pose.hpp) puts it: each vertex x0 + d when the pose
+// does not turn (to the bit at d = 0), else x_c0 + d + R(theta) (x0 - x_c0) about its reference
+// point x_c0 (m). The moving obstacles' surfaces (WallGeometry) and clamp polygons share it.
+Polygon posed_polygon(const Polygon& rest, const Vec2& rest_centroid, const RigidPose& pose);
 
 // What is wrong with a polygon as a wall, or "" if nothing: fewer than 3 vertices, a repeated
 // vertex (closer than `tolerance`, m), two edges that cross or touch (other than neighbours

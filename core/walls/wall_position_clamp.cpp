@@ -121,14 +121,8 @@ class WallPositionClamp final : public WallTreatment {
         obstacle.box = {obstacle.box.min + pose.displacement, obstacle.box.max + pose.displacement};
         continue;
       }
-      const Box& b = obstacle.box;
-      const Polygon rest =
-          box ? Polygon{b.min, Vec2(b.max.x(), b.min.y()), b.max, Vec2(b.min.x(), b.max.y())} : obstacle.polygon;
-      obstacle.polygon.clear();
-      for (const Vec2& vertex : rest) {
-        obstacle.polygon.push_back(obstacle.rest_centroid + pose.displacement +
-                                   rotated_arm(pose, vertex - obstacle.rest_centroid));
-      }
+      obstacle.polygon = posed_polygon(box ? box_polygon(obstacle.box.min, obstacle.box.max) : obstacle.polygon,
+                                       obstacle.rest_centroid, pose);
     }
     return placed;
   }
