@@ -5,8 +5,15 @@
 //   box surface [0.1875, 0.3125] x [0.0875, 0.1625] m: buoyancy rho g A, A = 0.125 x 0.075 m^2;
 //   plate surface [0.4375, 0.4875] x [0.0125, 0.5125] m, its right face against the tank's wall
 //   (x = 0.5) and its foot on the bed (y = 0): thrust rho g h^2 / 2 with h = 0.275 m.
+#include <string>
+#include <vector>
+
 #include "core/base/types.hpp"
+#include "core/io/geometry.hpp"
 #include "core/run/driver.hpp"
+#include "core/search/neighbour_search.hpp"
+#include "core/walls/wall_treatment.hpp"
+#include "support.hpp"
 
 namespace mps_lab::testing {
 
@@ -39,6 +46,68 @@ inline MeanLoads mean_loads(Simulation& run, double from, double to) {
   mean.box_torque /= n;
   mean.plate_torque /= n;
   return mean;
+}
+
+// Wall samples of the same case (tests/test_wall_sample_loads.cpp and the methods' load tests).
+
+// The boundary models of wall samples, from their declarations.
+inline std::vector<const WallTreatmentInfo*> sample_models() {
+  std::vector<const WallTreatmentInfo*> models;
+  for (const WallTreatmentInfo* info : registries().walls.all()) {
+    if (info->role == WallTreatmentRole::Boundary && !info->wall_particles) models.push_back(info);
+  }
+  return models;
+}
+
+// The still-water obstacles scene (tests/still_water_obstacles.hpp) with `model` as isph's boundary
+// model, its fluid lattice with p = rho g (H - y) plus a wobble, swirling velocities, the neighbours
+// within `support` and the samples the model builds there.
+struct SampleState {
+  Scene scene;
+  ParticleSet particles;
+  NeighbourList neighbours;
+  WallSampleList samples;
+};
+
+inline SampleState sample_state(const WallTreatmentInfo& model, double support) {
+  std::vector<std::string> overrides = boundary_model_overrides("hydrostatic.json", "isph", model.name);
+  overrides.push_back(kStillWaterObstacles);
+  SampleState state{load("hydrostatic.json", overrides), {}, {}, {}};
+  ParticleSet& p = state.particles = build_particles(state.scene, false);
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    const Vec2& x = p.position[i];
+    p.pressure[i] = 1000.0 * 9.81 * (0.2875 - x.y()) + 50.0 * std::cos(30.0 * x.x() + 7.0 * x.y());
+    p.velocity[i] = Vec2(std::sin(11.0 * x.y()), std::cos(13.0 * x.x()));
+  }
+  state.neighbours = find_neighbours(p.position, p.type, support);
+  WallTreatmentSet set(state.scene.method_config("isph").wall_treatments, state.scene);
+  WallContext context{p, &state.neighbours, 5e-4, state.scene};
+  context.support = support;
+  set.build_wall_samples(context, state.samples);
+  return state;
+}
+
+// The samples of `list` whose obstacle is `obstacle` (-1: the tank's), in the same rows.
+inline WallSampleList samples_of(const WallSampleList& list, std::int32_t obstacle) {
+  WallSampleList kept;
+  kept.offsets.assign(list.offsets.size(), 0);
+  for (std::size_t i = 0; i + 1 < list.offsets.size(); ++i) {
+    kept.offsets[i] = static_cast<std::uint32_t>(kept.samples.size());
+    for (std::uint32_t s = list.begin(i); s < list.end(i); ++s) {
+      if (list.samples[s].obstacle == obstacle) kept.samples.push_back(list.samples[s]);
+    }
+  }
+  if (!kept.offsets.empty()) kept.offsets.back() = static_cast<std::uint32_t>(kept.samples.size());
+  return kept;
+}
+
+// sum_i m a_i over the fluid particles, N/m.
+inline Vec2 fluid_total(const ParticleSet& particles, const std::vector<Vec2>& acceleration, double mass) {
+  Vec2 sum = Vec2::Zero();
+  for (std::size_t i = 0; i < particles.size(); ++i) {
+    if (particles.type[i] == ParticleType::Fluid) sum += mass * acceleration[i];
+  }
+  return sum;
 }
 
 }  // namespace mps_lab::testing

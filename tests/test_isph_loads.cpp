@@ -8,6 +8,7 @@
 
 #include "core/io/geometry.hpp"
 #include "methods/isph/isph_operators.hpp"
+#include "still_water_obstacles.hpp"
 #include "support.hpp"
 
 using namespace mps_lab;
@@ -19,14 +20,6 @@ namespace {
 // scenes/hydrostatic.json with a submerged box and a plate at the right wall (as tests/test_obstacle_loads.cpp).
 const char* const kObstacles =
     "walls.obstacles=[{\"min\": [0.2, 0.1], \"max\": [0.3, 0.15]}, {\"min\": [0.45, 0.025], \"max\": [0.475, 0.5]}]";
-
-Vec2 fluid_total(const ParticleSet& particles, const std::vector<Vec2>& acceleration, double mass) {
-  Vec2 sum = Vec2::Zero();
-  for (std::size_t i = 0; i < particles.size(); ++i) {
-    if (particles.type[i] == ParticleType::Fluid) sum += mass * acceleration[i];
-  }
-  return sum;
-}
 
 Vec2 total(const std::vector<Vec2>& values) {
   Vec2 sum = Vec2::Zero();
@@ -81,4 +74,60 @@ TEST_CASE("obstacle loads: isph wall pair terms are equal and opposite to what t
   INFO("viscous: on the fluid " << on_fluid.transpose() << " N/m, on the walls " << total(reaction).transpose());
   CHECK(on_fluid.norm() > 1e-3);
   CHECK((on_fluid + total(reaction)).norm() < 1e-8);
+}
+
+TEST_CASE("wall sample loads: isph sample pair terms are equal and opposite to what the fluid receives",
+          "[isph][loads]") {
+  // Fluid side: pressure_acceleration / add_viscous_acceleration with the samples of one solid (the
+  // box, the plate, the tank) and with none; wall side: the reaction passes with all the samples,
+  // whose per-obstacle totals and tank force must each be minus that solid's part. The symmetric and
+  // difference forms are sums of pair terms (no renormalisation), so the parts add up exactly.
+  // ~1e3 pair terms of at most ~1e2 N/m, totals ~1e3 N/m: rounding ~1e-10 N/m; 1e-8 N/m leaves 100x.
+  const double l0 = 0.025;
+  const SphKernel kernel(SphKernelKind::WendlandC2, 2.0 * 1.3 * l0);
+  const double mass = 1000.0 / lattice_kernel_sum(kernel, l0);
+  const isph::SamplePressure rule{1000.0, Vec2(0.0, -9.81), true};
+  for (const WallTreatmentInfo* model : sample_models()) {
+    const SampleState state = sample_state(*model, kernel.support());
+    const ParticleSet& p = state.particles;
+    std::vector<double> density(p.size());
+    for (std::size_t i = 0; i < p.size(); ++i) density[i] = 1000.0 + 3.0 * std::sin(17.0 * p.position[i].x());
+    const std::vector<double> interior(p.size(), 0.0);
+    const std::vector<Eigen::Matrix2d> identity(p.size(), Eigen::Matrix2d::Identity());
+    std::vector<Vec2> with, without, scratch;
+    for (const isph::PressureGradientForm form :
+         {isph::PressureGradientForm::Symmetric, isph::PressureGradientForm::Difference}) {
+      WallSampleLoads loads;
+      loads.reset(2);
+      isph::add_pressure_sample_reactions(p, state.samples, rule, kernel, mass, density, interior, form, identity,
+                                          scratch, loads);
+      isph::pressure_acceleration(p, state.neighbours, isph::no_wall_samples(), rule, kernel, mass, density, interior,
+                                  form, without);
+      const Vec2 reactions[3] = {loads.tank_force, loads.force[0], loads.force[1]};
+      for (std::int32_t solid = -1; solid <= 1; ++solid) {
+        isph::pressure_acceleration(p, state.neighbours, samples_of(state.samples, solid), rule, kernel, mass, density,
+                                    interior, form, with);
+        const Vec2 on_fluid = fluid_total(p, with, mass) - fluid_total(p, without, mass);
+        INFO(model->name << ", form " << static_cast<int>(form) << ", solid " << solid << ": on the fluid "
+                         << on_fluid.transpose() << " N/m, on the solid " << reactions[solid + 1].transpose());
+        CHECK(on_fluid.norm() > 10.0);  // the solid pushes the water: a test of something
+        CHECK((on_fluid + reactions[solid + 1]).norm() < 1e-8);
+      }
+    }
+    const double nu = 1e-3, eta2 = 0.01 * (1.3 * l0) * (1.3 * l0);
+    WallSampleLoads loads;
+    loads.reset(2);
+    isph::add_viscous_sample_reactions(p, state.samples, kernel, mass, density, 1000.0, nu, eta2, scratch, loads);
+    with.assign(p.size(), Vec2::Zero());
+    without.assign(p.size(), Vec2::Zero());
+    isph::add_viscous_acceleration(p, state.neighbours, state.samples, kernel, mass, density, 1000.0, nu, eta2, with);
+    isph::add_viscous_acceleration(p, state.neighbours, isph::no_wall_samples(), kernel, mass, density, 1000.0, nu,
+                                   eta2, without);
+    const Vec2 on_fluid = fluid_total(p, with, mass) - fluid_total(p, without, mass);
+    const Vec2 on_walls = loads.tank_force + loads.force[0] + loads.force[1];
+    INFO(model->name << " viscous: on the fluid " << on_fluid.transpose() << " N/m, on the walls "
+                     << on_walls.transpose());
+    CHECK(on_fluid.norm() > 1e-3);
+    CHECK((on_fluid + on_walls).norm() < 1e-8);
+  }
 }

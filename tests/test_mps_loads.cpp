@@ -53,15 +53,6 @@ PairState pair_state(double radius) {
   return state;
 }
 
-// sum_i m a_i over the fluid particles, N/m.
-Vec2 fluid_total(const ParticleSet& particles, const std::vector<Vec2>& acceleration, double mass) {
-  Vec2 sum = Vec2::Zero();
-  for (std::size_t i = 0; i < particles.size(); ++i) {
-    if (particles.type[i] == ParticleType::Fluid) sum += mass * acceleration[i];
-  }
-  return sum;
-}
-
 Vec2 total(const std::vector<Vec2>& values) {
   Vec2 sum = Vec2::Zero();
   for (const Vec2& v : values) sum += v;
@@ -158,5 +149,68 @@ TEST_CASE("obstacle loads: mps still water - the spec's gradient against the mom
     INFO("mps " << scheme << ": box " << box.transpose() << " N/m, plate " << plate.transpose() << " N/m");
     CHECK(box.y() / buoyancy == Approx(expected.box).margin(0.03));
     CHECK(plate.x() / thrust == Approx(expected.plate).margin(0.03));
+  }
+}
+
+TEST_CASE("wall sample loads: mps sample pair terms are equal and opposite to what the fluid receives",
+          "[mps][loads]") {
+  // obstacle_load pair_reaction with wall samples. The spec's gradient and CMPS's subtract the
+  // neighbourhood's minimum pressure, which the samples enter: with g = 0 in the operator a sample of
+  // dummy_layers or distance_function (source i itself) carries p_i, never below i's own pressure,
+  // which the minimum includes (min_includes_self), so dropping the samples leaves every minimum as
+  // it is and the wall part of the sum is isolated exactly. (A mirror image carries another
+  // particle's pressure: for it only the viscous term is isolated.) Tolerance as for isph.
+  const double l0 = 0.025;
+  const mps::OperatorRadius radius = mps::make_operator_radius(l0, 2.1 * l0, 0.01 * l0);
+  const double mass = kDensity * l0 * l0;
+  const Vec2 no_gravity = Vec2::Zero();
+  for (const WallTreatmentInfo* model : sample_models()) {
+    const SampleState state = sample_state(*model, radius.re);
+    const ParticleSet& p = state.particles;
+    const std::vector<char> carries(p.size(), 1);
+    std::vector<Vec2> with(p.size()), without(p.size()), scratch;
+    std::vector<double> minimum, unused;
+    bool own_sources = true;
+    for (const WallSample& sample : state.samples.samples) own_sources = own_sources && sample.velocity_map.isZero();
+    for (const bool cmps : {false, true}) {
+      if (!own_sources) break;
+      if (cmps) {
+        mps::cmps_pressure_acceleration(p, state.neighbours, state.samples, radius, carries, kDensity, no_gravity, true,
+                                        minimum, with);
+        mps::cmps_pressure_acceleration(p, state.neighbours, WallSampleList{}, radius, carries, kDensity, no_gravity,
+                                        true, unused, without);
+      } else {
+        mps::pressure_acceleration(p, state.neighbours, state.samples, radius, carries, kDensity, no_gravity, true,
+                                   with);
+        mps::pressure_acceleration(p, state.neighbours, WallSampleList{}, radius, carries, kDensity, no_gravity, true,
+                                   without);
+        mps::neighbourhood_minimum(p, state.neighbours, state.samples, radius, carries, kDensity, no_gravity, true,
+                                   minimum);
+      }
+      WallSampleLoads loads;
+      loads.reset(2);
+      mps::add_pressure_sample_reactions(p, state.samples, radius, minimum, cmps, kDensity, no_gravity, mass, scratch,
+                                         loads);
+      const Vec2 on_fluid = fluid_total(p, with, mass) - fluid_total(p, without, mass);
+      const Vec2 on_walls = loads.tank_force + loads.force[0] + loads.force[1];
+      INFO(model->name << ", cmps " << cmps << ": on the fluid " << on_fluid.transpose() << " N/m, on the walls "
+                       << on_walls.transpose());
+      CHECK(loads.force[0].norm() > 10.0);
+      CHECK((on_fluid + on_walls).norm() < 1e-8);
+    }
+    const double nu = 1e-3;
+    WallSampleLoads loads;
+    loads.reset(2);
+    mps::add_viscous_sample_reactions(p, state.samples, radius, nu, mass, scratch, loads);
+    std::fill(with.begin(), with.end(), Vec2::Zero());
+    std::fill(without.begin(), without.end(), Vec2::Zero());
+    mps::add_viscous_acceleration(p, state.neighbours, state.samples, radius, nu, with);
+    mps::add_viscous_acceleration(p, state.neighbours, WallSampleList{}, radius, nu, without);
+    const Vec2 on_fluid = fluid_total(p, with, mass) - fluid_total(p, without, mass);
+    const Vec2 on_walls = loads.tank_force + loads.force[0] + loads.force[1];
+    INFO(model->name << " viscous: on the fluid " << on_fluid.transpose() << " N/m, on the walls "
+                     << on_walls.transpose());
+    CHECK(on_fluid.norm() > 1e-3);
+    CHECK((on_fluid + on_walls).norm() < 1e-8);
   }
 }

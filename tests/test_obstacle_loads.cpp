@@ -10,6 +10,8 @@
 #include <string>
 #include <vector>
 
+#include <omp.h>
+
 #include "core/io/geometry.hpp"
 #include "core/run/driver.hpp"
 #include "core/walls/obstacle_membership.hpp"
@@ -87,13 +89,21 @@ TEST_CASE("obstacle loads: series columns and the capability computed from the d
     CHECK_FALSE(reports_obstacle_loads(plain, *method));
     CHECK(obstacle_loads_gap(plain, *method).empty());
   }
-  // A boundary model of wall samples carries no reaction: the gap names it.
+  // With a boundary model of wall samples the loads follow MethodInfo::sample_obstacle_loads: a method
+  // that does not declare it gets no columns, and the gap names the method and the model.
   const MethodInfo* isph = registries().methods.find("isph");
   REQUIRE(isph != nullptr);
   const Scene samples =
       load("hydrostatic.json", {kStillWaterObstacles, "methods.isph.wall_treatments.dummy_layers.enabled=true",
                                 "methods.isph.wall_treatments.adami_wall_particles.enabled=false"});
-  CHECK_THAT(obstacle_loads_gap(samples, *isph), Catch::Contains("dummy_layers"));
+  CHECK(reports_obstacle_loads(samples, *isph) == isph->sample_obstacle_loads);
+  MethodInfo without = *isph;
+  without.sample_obstacle_loads = false;
+  CHECK_FALSE(reports_obstacle_loads(samples, without));
+  CHECK_THAT(obstacle_loads_gap(samples, without), Catch::Contains("dummy_layers") && Catch::Contains("'isph'"));
+  without.sample_obstacle_loads = true;
+  without.obstacle_loads = false;  // the wall particles' capability does not matter to samples
+  CHECK(reports_obstacle_loads(samples, without));
 }
 
 namespace {
@@ -109,15 +119,43 @@ namespace {
 //     the surface: 0.85 of the buoyancy, 0.94 of the plate's thrust (tests/test_mps_surface_loads.cpp;
 //     the reaction of the spec's wall pairs, obstacle_load pair_reaction, carries 0.11 and 0.43:
 //     the spec's gradient (P_j - P_min,i) is not antisymmetric, tests/test_mps_loads.cpp).
+// With the boundary models of wall samples (the reaction of each method's sample pairs; for mps the
+// fluid's pressure carried to the surface, core/walls/surface_pressure_loads.hpp):
+//   dummy_layers: the loads of the wall particles it stands for (isph and dfsph to 4 digits).
+//   distance_function: the box within 2 %, the plate 20-24 % low.
+//   mirror_particles: the box 13-27 % high in every method, where the fluid's own pressure carried to
+//     the box's surface reads 0.85-0.97 of Archimedes (0.92 isph): the images' pair forces at the
+//     box's convex corners, not the pressure field (docs/walls.md, "Loads with wall samples").
+//   Diverging (the stability monitor stops the run before 1 s; the wall study's box rows show the same
+//   water not staying at rest, docs/data/wall_study.md): mps with mirror particles and with the
+//   distance function, dfsph and wcsph with the distance function.
 struct Expected {
   const char* run;
   double box, plate, torque;
+  bool diverges = false;   // the stability monitor stops the run before t = 2 s
+  double asymmetry = 1.0;  // the symmetry bounds below times this (mirror images: measured, see there)
 };
 constexpr Expected kMeasured[] = {{"dfsph x akinci_boundary", 0.7523, 0.9808, 0.9881},
                                   {"eisph x adami_wall_particles", 0.9977, 0.8952, 0.8936},
                                   {"isph x adami_wall_particles", 1.0009, 0.8746, 0.8784},
                                   {"mps x spec_wall_particles", 0.8500, 0.9372, 0.9243},
-                                  {"wcsph x adami_wall_particles", 1.0004, 0.9552, 0.9249}};
+                                  {"wcsph x adami_wall_particles", 1.0004, 0.9552, 0.9249},
+                                  // Wall samples (core/walls/wall_sample_reactions.hpp):
+                                  {"dfsph x dummy_layers", 0.7523, 0.9808, 0.9881},
+                                  {"dfsph x mirror_particles", 1.2697, 1.0029, 0.9445, false, 1.6},
+                                  {"dfsph x distance_function", 0, 0, 0, true},
+                                  {"eisph x dummy_layers", 0.9798, 0.8806, 0.8806},
+                                  {"eisph x mirror_particles", 1.1685, 0.9147, 0.9060, false, 1.6},
+                                  {"eisph x distance_function", 1.0205, 0.7566, 0.7174},
+                                  {"isph x dummy_layers", 1.0008, 0.8747, 0.8783},
+                                  {"isph x mirror_particles", 1.1599, 0.9129, 0.9046, false, 1.6},
+                                  {"isph x distance_function", 1.0019, 0.8036, 0.7592},
+                                  {"mps x dummy_layers", 0.8813, 1.0147, 0.9974},
+                                  {"mps x mirror_particles", 0, 0, 0, true},
+                                  {"mps x distance_function", 0, 0, 0, true},
+                                  {"wcsph x dummy_layers", 1.0047, 0.9550, 0.9249},
+                                  {"wcsph x mirror_particles", 1.1334, 0.9448, 0.9283, false, 1.6},
+                                  {"wcsph x distance_function", 0, 0, 0, true}};
 
 const Expected* measured(const std::string& run) {
   for (const Expected& e : kMeasured) {
@@ -136,37 +174,51 @@ TEST_CASE("obstacle loads: still water on a submerged box and a plate - Archimed
   const double buoyancy = kDensity * kGravity * kBoxArea;
   const double thrust = 0.5 * kDensity * kGravity * kDepth * kDepth;
   const double moment = (kPlateCentroidY - (kFreeSurface - 2.0 * kDepth / 3.0)) * thrust;
+  // One thread: the runs give the same bits with any number (the contract's determinism test), and
+  // the contract group's two waiting-passive threads made these 200-particle runs 15 times slower
+  // (335 s against 22 s for the 20 runs).
+  const int threads = omp_get_max_threads();
+  omp_set_num_threads(1);
   int runs = 0;
   for (const MethodInfo* method : registries().methods.all()) {
-    if (!method->obstacle_loads) continue;
     for (const WallTreatmentInfo* model : registries().walls.all()) {
-      if (!model->wall_particles || !wall_treatment_supports(*model, *method)) continue;
+      if (model->role != WallTreatmentRole::Boundary || !wall_treatment_supports(*model, *method)) continue;
+      if (!(model->wall_particles ? method->obstacle_loads : method->sample_obstacle_loads)) continue;
       std::vector<std::string> overrides = boundary_overrides(*method, *model);
       overrides.insert(overrides.end(), {kStillWaterObstacles, "method=" + method->name});
       const Scene scene = load("hydrostatic.json", overrides);
       Simulation run(scene, *method);
       REQUIRE(run.reports_obstacle_loads());
+      const Expected* expected = measured(method->name + " x " + model->name);
+      INFO(method->name << " x " << model->name);
+      REQUIRE(expected != nullptr);  // a new method x model: measure and add
+      if (expected->diverges) {      // known: the water around the box does not stay at rest (see above)
+        CHECK_THROWS_AS(mean_loads(run, 1.0, 2.0), RunStopped);
+        ++runs;
+        continue;
+      }
       const MeanLoads mean = mean_loads(run, 1.0, 2.0);
       INFO(method->name << " x " << model->name << ": box " << mean.box_force.transpose() << " N/m (buoyancy "
                         << buoyancy << "), torque " << mean.box_torque << " N; plate " << mean.plate_force.transpose()
                         << " N/m (rho g h^2/2 " << thrust << "), torque " << mean.plate_torque << " N (" << moment
                         << ")");
       // A change of a wall term by more than 3 % of the analytic load fails (the runs are
-      // deterministic; the ratios are means over 2000 steps). A new method x model: measure and add.
-      const Expected* expected = measured(method->name + " x " + model->name);
-      REQUIRE(expected != nullptr);
+      // deterministic; the ratios are means over every step in t = 1-2 s).
       CHECK(mean.box_force.y() / buoyancy == Approx(expected->box).margin(0.03));
       CHECK(mean.plate_force.x() / thrust == Approx(expected->plate).margin(0.03));
       CHECK(mean.plate_torque / moment == Approx(expected->torque).margin(0.03));
       // Symmetry: no sideways force on the box beyond 9 % of its buoyancy (measured at most 7.3 %,
       // mps's wall pressure, -6.7 N/m: its side faces' noisy pressures; the others at most 3.8 %,
       // dfsph), no torque beyond that of 4 % of the buoyancy at its half-width, 0.23 N (measured
-      // at most 0.12 N, dfsph).
-      CHECK(std::abs(mean.box_force.x()) < 0.09 * buoyancy);
-      CHECK(std::abs(mean.box_torque) < 0.04 * buoyancy * 0.0625);
+      // at most 0.12 N, dfsph). Mirror images 1.6 times that, measured: up to 12.8 % (11.8 N/m,
+      // dfsph) and 0.31 N (dfsph, wcsph). The water around the box is not symmetric (the plate
+      // stands at the right wall), and the images' corner forces weigh it more; not isolated further.
+      CHECK(std::abs(mean.box_force.x()) < expected->asymmetry * 0.09 * buoyancy);
+      CHECK(std::abs(mean.box_torque) < expected->asymmetry * 0.04 * buoyancy * 0.0625);
       ++runs;
     }
   }
+  omp_set_num_threads(threads);
   CHECK(runs >= 1);
 }
 

@@ -8,6 +8,7 @@
 
 #include "core/io/geometry.hpp"
 #include "methods/wcsph/wcsph_operators.hpp"
+#include "still_water_obstacles.hpp"
 #include "support.hpp"
 
 using namespace mps_lab;
@@ -58,5 +59,46 @@ TEST_CASE("obstacle loads: wcsph wall pair terms are equal and opposite to what 
                   << on_walls.transpose());
     CHECK(on_fluid.norm() > 100.0);
     CHECK((on_fluid + on_walls).norm() < 1e-8);
+  }
+}
+
+TEST_CASE("wall sample loads: wcsph sample pair terms are equal and opposite to what the fluid receives",
+          "[wcsph][loads]") {
+  // Fluid side: momentum() with each model's wall samples and with none, gravity 0; wall side:
+  // add_momentum_sample_reactions, whose obstacles' loads and tank force must add up to minus the
+  // difference. Both viscosity models; tolerance as above.
+  for (const WallTreatmentInfo* model : sample_models()) {
+    const double l0 = 0.025;
+    const SphKernel kernel(SphKernelKind::WendlandC2, 3.0 * l0);
+    const double mass = 1000.0 * l0 * l0;
+    const SampleState state = sample_state(*model, kernel.support());
+    const ParticleSet& p = state.particles;
+    std::vector<double> density(p.size());
+    for (std::size_t i = 0; i < p.size(); ++i) density[i] = 1000.0 + 2.0 * std::sin(17.0 * p.position[i].x());
+    const WallSampleList none;
+    const TaitEquation eos;
+    for (const Viscosity viscous : {Viscosity::Artificial, Viscosity::Laminar}) {
+      ViscositySettings viscosity;
+      viscosity.model = viscous;
+      viscosity.alpha_h_c0 = 0.02 * 1.5 * l0 * eos.sound_speed;
+      viscosity.kinematic_viscosity = 1e-3;
+      viscosity.eta2 = 0.01 * 1.5 * l0 * 1.5 * l0;
+      const FluidState with{p,          state.neighbours, state.samples, kernel,       mass, density,
+                            p.velocity, p.pressure,       eos,           Vec2::Zero(), true};
+      const FluidState without{p,          state.neighbours, none, kernel,       mass, density,
+                               p.velocity, p.pressure,       eos,  Vec2::Zero(), true};
+      std::vector<Vec2> a_with, a_without, scratch;
+      momentum(with, viscosity, a_with);
+      momentum(without, viscosity, a_without);
+      WallSampleLoads loads;
+      loads.reset(2);
+      add_momentum_sample_reactions(with, viscosity, scratch, loads);
+      const Vec2 on_fluid = fluid_total(p, a_with, mass) - fluid_total(p, a_without, mass);
+      const Vec2 on_walls = loads.tank_force + loads.force[0] + loads.force[1];
+      INFO(model->name << ", viscosity " << static_cast<int>(viscous) << ": on the fluid " << on_fluid.transpose()
+                       << " N/m, on the walls " << on_walls.transpose());
+      CHECK(loads.force[0].norm() > 10.0);
+      CHECK((on_fluid + on_walls).norm() < 1e-8);
+    }
   }
 }

@@ -342,7 +342,7 @@ constexpr std::size_t kWallSampleValues = 11;
 void write_wall_samples(CheckpointWriter& writer, const WallSampleList& samples) {
   writer.write_u32s(samples.offsets);
   std::vector<double> values;
-  std::vector<std::uint32_t> sources;
+  std::vector<std::uint32_t> sources, obstacles;
   values.reserve(samples.samples.size() * kWallSampleValues);
   for (const WallSample& sample : samples.samples) {
     values.insert(values.end(),
@@ -350,17 +350,20 @@ void write_wall_samples(CheckpointWriter& writer, const WallSampleList& samples)
                    sample.velocity_map(1, 0), sample.velocity_map(1, 1), sample.volume, sample.wall_velocity.x(),
                    sample.wall_velocity.y(), sample.wall_acceleration.x(), sample.wall_acceleration.y()});
     sources.push_back(sample.source);
+    obstacles.push_back(static_cast<std::uint32_t>(sample.obstacle));  // -1 as 0xffffffff
   }
   writer.write_doubles(values);
   writer.write_u32s(sources);
+  writer.write_u32s(obstacles);
 }
 
 void read_wall_samples(CheckpointReader& reader, WallSampleList& samples) {
   samples.offsets = reader.read_u32s();
   const std::vector<double> values = reader.read_doubles();
   const std::vector<std::uint32_t> sources = reader.read_u32s();
+  const std::vector<std::uint32_t> obstacles = reader.read_u32s();
   const bool consistent =
-      values.size() == kWallSampleValues * sources.size() &&
+      values.size() == kWallSampleValues * sources.size() && obstacles.size() == sources.size() &&
       (samples.offsets.empty() ? sources.empty()
                                : samples.offsets.front() == 0 && samples.offsets.back() == sources.size());
   if (!consistent) reader.fail("inconsistent wall samples");
@@ -374,6 +377,7 @@ void read_wall_samples(CheckpointReader& reader, WallSampleList& samples) {
     sample.wall_velocity = Vec2(v[7], v[8]);
     sample.wall_acceleration = Vec2(v[9], v[10]);
     sample.source = sources[k];
+    sample.obstacle = static_cast<std::int32_t>(obstacles[k]);
   }
 }
 

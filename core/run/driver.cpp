@@ -123,6 +123,7 @@ Simulation::Simulation(const Scene& scene, const MethodInfo& info, PressureSyste
       bodies_(scene),
       obstacle_of_id_(obstacle_of_wall_particles(scene, particles_)),
       reports_loads_(mps_lab::reports_obstacle_loads(scene, info)),
+      wall_particles_(wants_wall_particles(scene, info)),
       monitor_(scene, scene.stability),
       sensors_(scene) {
   for (const auto& field : info.fields) particles_.add_field(field.name);
@@ -201,15 +202,21 @@ const StepReport& Simulation::advance() {
   return report_;
 }
 
-// The loads on the obstacles from the method's reaction on wall particles of the step that ends at t (s).
+// The loads on the obstacles of the step that ends at t (s): from the method's reaction on wall
+// particles, or with a boundary model of wall samples (sum_wall_sample_loads).
 void Simulation::sum_loads(double t) {
   if (!reports_loads_) return;
-  const std::vector<Vec2>* reaction = method_->wall_reactions();
-  if (reaction == nullptr || reaction->size() != particles_.size()) {
-    throw std::logic_error("method '" + info_.name + "' declares obstacle_loads but reported no reaction on its " +
-                           std::to_string(particles_.size()) + " particles");
+  if (wall_particles_) {
+    const std::vector<Vec2>* reaction = method_->wall_reactions();
+    if (reaction == nullptr || reaction->size() != particles_.size()) {
+      throw std::logic_error("method '" + info_.name + "' declares obstacle_loads but reported no reaction on its " +
+                             std::to_string(particles_.size()) + " particles");
+    }
+    sum_obstacle_loads(scene_, particles_, obstacle_of_id_, *reaction, t, loads_);
+  } else {
+    start_obstacle_loads(scene_, t, loads_);
+    sum_wall_sample_loads();
   }
-  sum_obstacle_loads(scene_, particles_, obstacle_of_id_, *reaction, t, loads_);
   // A body's load about where its centre of mass is in this step (the pose the fluid saw):
   // T_c = T_ref + (ref - x_c) x F.
   for (std::size_t b = 0; b < bodies_.size(); ++b) {
@@ -219,6 +226,22 @@ void Simulation::sum_loads(double t) {
     loads_.torque[k] += arm.x() * loads_.force[k].y() - arm.y() * loads_.force[k].x();
     loads_.reference[k] = centre;
   }
+}
+
+// With a boundary model of wall samples (MethodInfo::sample_obstacle_loads): the method's reaction on
+// each sample, or, for a method whose load is its wall's pressure, that pressure over the surface.
+void Simulation::sum_wall_sample_loads() {
+  if (method_->obstacle_load_kind() == ObstacleLoadKind::SurfacePressure) {
+    if (!surface_loads_) surface_loads_ = std::make_unique<SurfacePressureLoads>(scene_);
+    surface_loads_->add(particles_, loads_);
+    return;
+  }
+  const WallSampleLoads* sample_loads = method_->wall_sample_loads();
+  if (sample_loads == nullptr || sample_loads->force.size() != loads_.size()) {
+    throw std::logic_error("method '" + info_.name + "' declares sample_obstacle_loads but reported no load on the " +
+                           std::to_string(loads_.size()) + " obstacles' wall samples");
+  }
+  add_wall_sample_loads(*sample_loads, loads_);
 }
 
 void Simulation::run_to(double end_time) {

@@ -22,6 +22,7 @@
 #include "core/run/stability.hpp"
 #include "core/walls/moving_walls.hpp"
 #include "core/walls/obstacle_loads.hpp"
+#include "core/walls/surface_pressure_loads.hpp"
 
 namespace mps_lab {
 
@@ -85,6 +86,7 @@ class Simulation {
   void reorder_by_cell();
   void place_moving_walls(double t);
   void sum_loads(double t);
+  void sum_wall_sample_loads();
 
   PhaseTimers timers_;  // first: the constructor's own time is its "setup" phase
   PhaseTimers::Clock::time_point setup_started_ = PhaseTimers::Clock::now();
@@ -97,6 +99,10 @@ class Simulation {
   RigidBodies bodies_;                        // obstacles with a body block
   std::vector<std::int32_t> obstacle_of_id_;  // per particle id (core/walls/obstacle_membership.hpp)
   bool reports_loads_ = false;
+  bool wall_particles_ = true;  // the boundary model is made of wall particles (else of wall samples)
+  // The wall's pressure over the obstacles' surface, for a method whose load is SurfacePressure with a
+  // boundary model of wall samples (made at the first step that needs it).
+  std::unique_ptr<SurfacePressureLoads> surface_loads_;
   // The fluid's load on each obstacle in the last step (core/walls/obstacle_loads.hpp); it moves
   // the bodies (advance()).
   ObstacleLoads loads_;

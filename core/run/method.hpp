@@ -22,6 +22,7 @@
 #include "core/base/particles.hpp"
 #include "core/linalg/projection_solver.hpp"
 #include "core/run/profile.hpp"
+#include "core/walls/wall_sample_reactions.hpp"
 #include "core/walls/wall_treatment.hpp"
 
 namespace mps_lab {
@@ -90,6 +91,12 @@ class Method {
   // pressure's share of the wetted surface). Computed in every step of a scene with obstacles and a
   // boundary model of wall particles; null otherwise (the default).
   virtual const std::vector<Vec2>* wall_reactions() const { return nullptr; }
+  // The same with a boundary model of wall samples (MethodInfo::sample_obstacle_loads): the reaction
+  // of the last step's wall terms on each obstacle's samples (core/walls/wall_sample_reactions.hpp),
+  // where the method's load is its pair terms' reaction (obstacle_load_kind() PairReaction). A method
+  // whose load is its wall's pressure (SurfacePressure) returns null: the driver integrates the wall's
+  // pressure over the obstacles' surface for it (core/walls/surface_pressure_loads.hpp).
+  virtual const WallSampleLoads* wall_sample_loads() const { return nullptr; }
   // What wall_reactions() holds: the reaction of the fluid's wall pair terms (PairReaction: the
   // fluid receives exactly the opposite, to rounding), or the integral of the wall's pressure over
   // the obstacles' wetted surface (SurfacePressure: the pressure's part is not the exact opposite
@@ -140,6 +147,11 @@ struct MethodInfo {
   // fluid's reaction on each wall particle (Method::wall_reactions): the driver then sums it into
   // the load on every obstacle (core/walls/obstacle_loads.hpp) and writes it to series.csv.
   bool obstacle_loads = false;
+  // True when, with every boundary model of wall samples, its step computes the fluid's reaction on
+  // each obstacle's samples (Method::wall_sample_loads) or its load is its wall's pressure, which the driver
+  // integrates over the surface (Method::obstacle_load_kind SurfacePressure): the loads on obstacles
+  // are then reported with those models too, and bodies move under them (docs/walls.md).
+  bool sample_obstacle_loads = false;
   std::function<std::unique_ptr<Method>(const MethodSetup&)> create;
 };
 
@@ -165,8 +177,9 @@ bool wall_treatment_supports(const WallTreatmentInfo& wall, const MethodInfo& me
 // does not call"); empty when the method may use the treatment.
 std::string wall_treatment_support_gap(const WallTreatmentInfo& wall, const MethodInfo& method);
 
-// Whether a run of `method` on `scene` reports the loads on its obstacles: the scene has obstacles,
-// the method declares obstacle_loads and the scene's boundary model for it is made of wall particles.
+// Whether a run of `method` on `scene` reports the loads on its obstacles: the scene has obstacles
+// and the method declares obstacle_loads for the scene's boundary model, if it is made of wall
+// particles, or sample_obstacle_loads, if it is a boundary model of wall samples.
 bool reports_obstacle_loads(const Scene& scene, const MethodInfo& method);
 // Why a scene with obstacles gets no loads from `method`, in a phrase; empty when it does or has none.
 std::string obstacle_loads_gap(const Scene& scene, const MethodInfo& method);

@@ -72,11 +72,15 @@ bool wall_treatment_supports(const WallTreatmentInfo& wall, const MethodInfo& me
 
 std::string obstacle_loads_gap(const Scene& scene, const MethodInfo& method) {
   if (scene.walls.obstacles.empty()) return "";
-  if (!method.obstacle_loads) return "method '" + method.name + "' does not compute the reaction on wall particles";
   const WallTreatmentChoice* boundary = boundary_choice(scene.method_config(method.name).wall_treatments);
-  if (boundary == nullptr || !boundary->info->wall_particles) {
-    return "the boundary model " + (boundary != nullptr ? boundary->info->name : std::string("(none)")) +
-           " has no wall particles to carry the reaction";
+  if (boundary == nullptr) return "the boundary model (none) has no wall particles to carry the reaction";
+  if (boundary->info->wall_particles) {
+    if (!method.obstacle_loads) return "method '" + method.name + "' does not compute the reaction on wall particles";
+    return "";
+  }
+  if (!method.sample_obstacle_loads) {
+    return "method '" + method.name + "' does not compute the load on the wall samples of the boundary model " +
+           boundary->info->name;
   }
   return "";
 }

@@ -5,6 +5,7 @@
 
 #include "core/io/checkpoint.hpp"
 #include "core/walls/wall_geometry.hpp"
+#include "core/walls/wall_pressure_extrapolation.hpp"
 
 namespace mps_lab {
 
@@ -27,26 +28,19 @@ SphKernel wall_pressure_kernel(double particle_spacing) {
   return SphKernel(SphKernelKind::CubicSpline, kSupport * particle_spacing);
 }
 
-// Adami, Hu & Adams (2012), eq. 27:
-//   p_w = [ sum_f p_f W_wf + (g - a_w) . sum_f rho_f (x_w - x_f) W_wf ] / sum_f W_wf.
+// Adami, Hu & Adams (2012), eq. 27 (core/walls/wall_pressure_extrapolation.hpp).
 double extrapolated_wall_pressure(const ParticleSet& particles, const Vec2& wall_point, const Vec2& body_force,
                                   double density, const SphKernel& kernel) {
   const double support2 = kernel.support() * kernel.support();
-  double weights = 0.0;            // 1/m^2
-  double weighted_p = 0.0;         // Pa/m^2
-  Vec2 weighted_r = Vec2::Zero();  // m/m^2
+  ExtrapolatedPressure sums;
   for (std::size_t f = 0; f < particles.size(); ++f) {
     if (particles.type[f] != ParticleType::Fluid) continue;
     const Vec2 r_wf = wall_point - particles.position[f];
     const double r2 = r_wf.squaredNorm();
     if (r2 >= support2) continue;
-    const double w = kernel.value(std::sqrt(r2));
-    weights += w;
-    weighted_p += particles.pressure[f] * w;
-    weighted_r += r_wf * w;
+    sums.add(particles.pressure[f], r_wf, kernel.value(std::sqrt(r2)));
   }
-  if (!(weights > 0.0)) return 0.0;  // dry: no fluid within the support
-  return (weighted_p + density * body_force.dot(weighted_r)) / weights;
+  return sums.value(density, body_force);
 }
 
 std::vector<SensorFace> sensor_faces(const Scene& scene) {

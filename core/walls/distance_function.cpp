@@ -73,6 +73,7 @@ class DistanceFunction final : public WallSampleModel {
             sample.velocity_map = velocity_map;
             sample.source = static_cast<std::uint32_t>(i);
             sample.volume = volume;
+            sample.obstacle = wall.body;
             set_wall_motion(sample, wall);
             samples.samples.push_back(sample);
           }

@@ -26,9 +26,10 @@ class DummyLayers final : public WallSampleModel {
  public:
   explicit DummyLayers(const WallTreatmentSetup& setup) : WallSampleModel(setup), support_(0.0) {
     const ParticleSet lattice = build_particles(setup.scene, true);
-    const std::vector<std::int32_t> owner = setup.scene.walls.any_moving()
-                                                ? obstacle_of_wall_particles(setup.scene, lattice)
-                                                : std::vector<std::int32_t>(lattice.size(), kNoObstacle);
+    // Each point belongs to the solid its wall particle would belong to (the loads' and the
+    // moving walls' membership, core/walls/obstacle_membership.hpp): the tank keeps the points a
+    // tank wall holds.
+    const std::vector<std::int32_t> owner = obstacle_of_wall_particles(setup.scene, lattice);
     for (std::size_t k = 0; k < lattice.size(); ++k) {
       if (lattice.type[k] != ParticleType::Wall) continue;
       const std::int32_t body = owner[k];
@@ -37,6 +38,7 @@ class DummyLayers final : public WallSampleModel {
         moving_points_.push_back({wall_points_.size(), static_cast<std::size_t>(body), lattice.position[k], arm});
       }
       wall_points_.push_back(lattice.position[k]);
+      point_obstacle_.push_back(body);
     }
   }
 
@@ -56,6 +58,7 @@ class DummyLayers final : public WallSampleModel {
         WallSample sample;
         sample.position = grid_.points()[k];
         sample.source = static_cast<std::uint32_t>(i);
+        sample.obstacle = point_obstacle_[k];
         if (!point_motion_.empty()) {  // u_w = u_wall (velocity_map 0), a_w
           sample.wall_velocity = point_motion_[k].velocity;
           sample.wall_acceleration = point_motion_[k].acceleration;
@@ -93,7 +96,8 @@ class DummyLayers final : public WallSampleModel {
     return true;
   }
 
-  std::vector<Vec2> wall_points_;  // m
+  std::vector<Vec2> wall_points_;             // m
+  std::vector<std::int32_t> point_obstacle_;  // per wall point: walls.obstacles[k], or kNoObstacle (the tank)
   std::vector<MovingPoint> moving_points_;
   std::vector<PointMotion> point_motion_;  // per wall point while obstacles move (zero for fixed points)
   PointGrid grid_;

@@ -31,6 +31,7 @@ struct Image {
   Vec2 position;  // m
   Mat2 velocity_map;
   std::uint32_t source;                   // the fluid particle it mirrors
+  std::int32_t obstacle = -1;             // the solid it stands for (WallSample::obstacle)
   Vec2 wall_velocity = Vec2::Zero();      // (I - M) u_wall, m/s (core/walls/wall_samples.hpp)
   Vec2 wall_acceleration = Vec2::Zero();  // a_wall, m/s^2
 };
@@ -159,6 +160,7 @@ class MirrorParticles final : public WallSampleModel {
       sample.position = images_[k].position;
       sample.velocity_map = images_[k].velocity_map;
       sample.source = images_[k].source;
+      sample.obstacle = images_[k].obstacle;
       sample.wall_velocity = images_[k].wall_velocity;
       sample.wall_acceleration = images_[k].wall_acceleration;
       samples.samples.push_back(sample);
@@ -229,7 +231,7 @@ class MirrorParticles final : public WallSampleModel {
       const Vec2 image = x - 2.0 * d * wall.normal;  // x' = x - 2 d n
       if (!geometry_.inside_solid(image) || filled_by_another_face(image, s, d)) continue;
       const Mat2 reflect = Mat2::Identity() - 2.0 * wall.normal * wall.normal.transpose();
-      images_.push_back({image, no_slip_ ? Mat2(-Mat2::Identity()) : reflect, j});
+      images_.push_back({image, no_slip_ ? Mat2(-Mat2::Identity()) : reflect, j, wall.body});
       if (geometry_.moves(wall)) {  // the motion relative to the wall, mirrored
         Image& moved = images_.back();
         moved.wall_velocity = (Mat2::Identity() - moved.velocity_map) * geometry_.wall_velocity(wall, image);
@@ -291,9 +293,13 @@ class MirrorParticles final : public WallSampleModel {
       const Vec2 image = 2.0 * corner.point - x;
       // No fluid particle reaches the image unless x is within the support of the corner.
       if ((x - corner.point).norm() >= support || !geometry_.inside_solid(image)) continue;
-      images_.push_back({image, -Mat2::Identity(), j});
       const WallSegment& a = geometry_.segments()[corner.a];
       const WallSegment& b = geometry_.segments()[corner.b];
+      // The quadrant behind both surfaces belongs to a solid's load only where both surfaces are
+      // that solid's (a concave corner of one obstacle). Where an obstacle meets the tank (a box on
+      // the bed) it stays with the tank, as the bed's wall particles under a box's foot do
+      // (core/walls/obstacle_membership.hpp); between two obstacles it is in neither's load.
+      images_.push_back({image, -Mat2::Identity(), j, a.body == b.body ? a.body : -1});
       if (geometry_.moves(a) || geometry_.moves(b)) {  // (I - M) u_wall = 2 u_wall, u_wall the surfaces' mean
         images_.back().wall_velocity =
             geometry_.wall_velocity(a, corner.point) + geometry_.wall_velocity(b, corner.point);

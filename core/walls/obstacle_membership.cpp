@@ -2,6 +2,7 @@
 #include "core/walls/obstacle_membership.hpp"
 
 #include "core/walls/wall_polygon.hpp"
+#include "core/walls/wall_sample_reactions.hpp"
 
 namespace mps_lab {
 
@@ -56,9 +57,7 @@ Vec2 obstacle_rest_centroid(const Scene& scene, std::size_t k) {
   return 0.5 * (box.min + box.max);
 }
 
-void sum_obstacle_loads(const Scene& scene, const ParticleSet& particles,
-                        const std::vector<std::int32_t>& obstacle_of_id, const std::vector<Vec2>& reaction, double time,
-                        ObstacleLoads& loads) {
+void start_obstacle_loads(const Scene& scene, double time, ObstacleLoads& loads) {
   const std::size_t obstacles = scene.walls.obstacles.size();
   loads.reset(obstacles);
   for (std::size_t k = 0; k < obstacles; ++k) {
@@ -66,6 +65,12 @@ void sum_obstacle_loads(const Scene& scene, const ParticleSet& particles,
     loads.reference[k] =
         obstacle_rest_centroid(scene, k) + (moves ? scene.walls.motions[k].displacement(time) : Vec2::Zero());
   }
+}
+
+void sum_obstacle_loads(const Scene& scene, const ParticleSet& particles,
+                        const std::vector<std::int32_t>& obstacle_of_id, const std::vector<Vec2>& reaction, double time,
+                        ObstacleLoads& loads) {
+  start_obstacle_loads(scene, time, loads);
   for (std::size_t j = 0; j < particles.size(); ++j) {
     const std::int32_t k = obstacle_of_id[particles.id[j]];
     if (k == kNoObstacle) continue;
@@ -73,6 +78,15 @@ void sum_obstacle_loads(const Scene& scene, const ParticleSet& particles,
     const Vec2 arm = particles.position[j] - loads.reference[k];
     loads.force[k] += f;
     loads.torque[k] += arm.x() * f.y() - arm.y() * f.x();
+  }
+}
+
+void add_wall_sample_loads(const WallSampleLoads& sample_loads, ObstacleLoads& loads) {
+  for (std::size_t k = 0; k < loads.size() && k < sample_loads.force.size(); ++k) {
+    const Vec2& f = sample_loads.force[k];
+    const Vec2& c = loads.reference[k];
+    loads.force[k] += f;
+    loads.torque[k] += sample_loads.moment[k] - (c.x() * f.y() - c.y() * f.x());  // T_c = T_0 - c x F
   }
 }
 

@@ -15,6 +15,7 @@
 #include "core/base/particles.hpp"
 #include "core/io/scene.hpp"
 #include "core/walls/obstacle_loads.hpp"
+#include "core/walls/wall_sample_reactions.hpp"
 
 namespace mps_lab {
 
@@ -36,6 +37,10 @@ std::vector<std::int32_t> obstacle_of_wall_particles(const Scene& scene, const P
 // The reference point of a moving obstacle's pose (core/walls/moving_walls.hpp) and of its load.
 Vec2 obstacle_rest_centroid(const Scene& scene, std::size_t k);
 
+// Zero loads on every obstacle of the scene, each about its reference point at time t (s): its rest
+// centroid displaced by its motion law at t (a body's centre is set by the driver afterwards).
+void start_obstacle_loads(const Scene& scene, double time, ObstacleLoads& loads);
+
 // The loads at time t (s): force[k] = sum of reaction[j] over the wall particles j of obstacle k
 // (reaction: the force the fluid puts on each particle, N/m, in the order of `particles`);
 // torque[k] = sum (x_j - c_k) x reaction[j] about c_k = the rest centroid displaced by the
@@ -43,5 +48,9 @@ Vec2 obstacle_rest_centroid(const Scene& scene, std::size_t k);
 void sum_obstacle_loads(const Scene& scene, const ParticleSet& particles,
                         const std::vector<std::int32_t>& obstacle_of_id, const std::vector<Vec2>& reaction, double time,
                         ObstacleLoads& loads);
+
+// loads += the reaction on each obstacle's wall samples (core/walls/wall_sample_reactions.hpp), its
+// moment moved from the origin to the obstacle's reference point (loads.reference, set already).
+void add_wall_sample_loads(const WallSampleLoads& sample_loads, ObstacleLoads& loads);
 
 }  // namespace mps_lab

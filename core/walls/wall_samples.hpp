@@ -21,6 +21,11 @@
 //               acceleration; for s = i the wall terms of the PPE become known values)
 // s is i itself (dummy layers, distance function: a Neumann wall that carries the particle's
 // own pressure) or the fluid particle j the sample mirrors (mirror particles).
+//
+// Loads on obstacles (core/walls/obstacle_loads.hpp, docs/walls.md "Loads on obstacles"): each
+// sample names the solid it stands for, `obstacle` = k for walls.obstacles[k], -1 for the tank.
+// The force the fluid puts on the sample (the reaction of its pair terms, one entry per sample)
+// is summed per obstacle (sum_wall_sample_loads, core/walls/wall_sample_reactions.hpp).
 #include <cstdint>
 #include <vector>
 
@@ -36,12 +41,17 @@ struct WallSample {
   Vec2 position = Vec2::Zero();      // x_w, m
   Mat2 velocity_map = Mat2::Zero();  // u_w = velocity_map * u_source
   std::uint32_t source = 0;          // the particle whose pressure and velocity it carries
+  std::int32_t obstacle = -1;        // walls.obstacles[obstacle], or -1: the tank (kNoObstacle)
   double volume = 1.0;               // V_w / l0^2
   // A moving wall (walls.obstacles[k].motion): the velocity term of u_w (above) and the wall's
   // acceleration a_wall at x_w; zero for a wall at rest.
   Vec2 wall_velocity = Vec2::Zero();      // m/s
   Vec2 wall_acceleration = Vec2::Zero();  // m/s^2
 };
+
+// The obstacle tag fills the padding after `source`: a sample stays 96 bytes (docs/walls.md, the cost
+// of moving samples).
+static_assert(sizeof(WallSample) == 96, "WallSample grew: measure the samples' memory and time again");
 
 // Compressed rows as NeighbourList: the samples of particle i are
 // samples[offsets[i] .. offsets[i+1]). Empty (no offsets) when the boundary model is made of

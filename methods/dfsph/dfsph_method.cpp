@@ -116,6 +116,8 @@ class DfsphMethod final : public Method {
     particle_mass_ = rest_density_ * l0 * l0;  // 2-D: kg per metre of depth
     // Loads on obstacles (MethodInfo::obstacle_loads): the reaction on wall particles, when there are both.
     computes_reactions_ = !scene_.walls.obstacles.empty() && walls_.wall_particles();
+    // ... and on each obstacle's wall samples (MethodInfo::sample_obstacle_loads).
+    computes_sample_loads_ = !scene_.walls.obstacles.empty() && !walls_.wall_particles();
     time_step_settings_ = time_step_settings(p, scene_.time.time_step, scene_.source);
     const double warm_start_fraction = p.number("warm_start_fraction");
     density_settings_ = solver_settings(p, "density", warm_start_fraction);
@@ -204,6 +206,7 @@ class DfsphMethod final : public Method {
     find_neighbourhoods(particles, context);  // 1.
     const SphSystem sph = system();
     if (computes_reactions_) reaction_.assign(particles.size(), Vec2::Zero());
+    if (computes_sample_loads_) sample_loads_.reset(scene_.walls.obstacles.size());
     const double compression = densities_and_factors(particles, sph);       // 2.
     const SolverOutcome divergence = solve_divergence(particles, sph, dt);  // 3.
     add_non_pressure_forces(particles, sph);                                // 4.
@@ -288,6 +291,11 @@ class DfsphMethod final : public Method {
   // Loads on obstacles (core/walls/obstacle_loads.hpp): the fluid's force on each wall particle
   // in the last step, N/m; null without obstacles or without wall particles (Method::wall_reactions).
   const std::vector<Vec2>* wall_reactions() const override { return computes_reactions_ ? &reaction_ : nullptr; }
+  // The same on each obstacle's wall samples (core/walls/wall_sample_reactions.hpp); null without
+  // obstacles or with wall particles.
+  const WallSampleLoads* wall_sample_loads() const override {
+    return computes_sample_loads_ ? &sample_loads_ : nullptr;
+  }
 
   // `mps_lab bench`'s memory breakdown (docs/performance.md, "Memory"): the search, the kernel
   // caches, the wall samples and their caches, the per-particle arrays and the solvers' workspace.
@@ -387,6 +395,14 @@ class DfsphMethod final : public Method {
           add_boundary_viscous_reactions(particles, sph, kernel_, density, scene_.physics.kinematic_viscosity,
                                          reaction_);
         }
+        if (computes_sample_loads_) {
+          add_sample_viscous_reactions(particles, sph, density, scene_.physics.kinematic_viscosity, kernel_.support(),
+                                       sample_scratch_, sample_loads_);
+        }
+      }
+      if (computes_sample_loads_) {  // the explicit hydrostatic parts of the samples' pressure
+        add_sample_hydrostatic_reactions(particles, sph, density, gravity, sample_hydrostatic_,
+                                         wall_pressure_ == WallPressure::Extrapolated, sample_scratch_, sample_loads_);
       }
       if (sample_hydrostatic_) add_sample_hydrostatic_acceleration(particles, sph, density, gravity, acceleration_);
       if (wall_pressure_ == WallPressure::Extrapolated) {
@@ -454,6 +470,11 @@ class DfsphMethod final : public Method {
       const auto timed = measure(timers_, operators_phase_);
       add_boundary_pressure_reactions(particles, sph, kernel_, density, density_stiffness_, divergence_stiffness_,
                                       reaction_);
+    }
+    if (computes_sample_loads_) {  // the same on the wall samples of the step
+      const auto timed = measure(timers_, operators_phase_);
+      add_sample_pressure_reactions(particles, sph, density, density_stiffness_, divergence_stiffness_, sample_scratch_,
+                                    sample_loads_);
     }
     {
       const auto timed = measure(timers_, integration_phase_);
@@ -570,7 +591,10 @@ class DfsphMethod final : public Method {
   WallPressureStencil wall_stencil_;   // wall_pressure = extrapolated: this step's boundary extrapolation
   std::vector<double> boundary_mass_;  // Psi_b, kg/m
   bool computes_reactions_ = false;
-  std::vector<Vec2> reaction_;                // the fluid's force on each wall particle in this step, N/m
+  std::vector<Vec2> reaction_;  // the fluid's force on each wall particle in this step, N/m
+  bool computes_sample_loads_ = false;
+  WallSampleLoads sample_loads_;              // the fluid's force on each obstacle's wall samples in this step
+  std::vector<Vec2> sample_scratch_;          // per sample, N/m (core/walls/wall_sample_reactions.hpp)
   std::vector<double> density_stiffness_;     // kappa_i of the density solver, m^2/s^2
   std::vector<double> divergence_stiffness_;  // kappa^v_i of the divergence solver, m^2/s^2
   std::vector<Vec2> acceleration_;            // non-pressure acceleration of the last step, m/s^2
@@ -656,6 +680,7 @@ void mps_lab_register_method_dfsph(mps_lab::MethodRegistry& registry) {
   info.moving_walls = true;  // wall velocity in the viscous term and the wall pressure (docs/walls.md, "Moving walls")
   info.obstacle_loads =
       true;  // [AIA12] eq. (10)'s reaction on boundary particles (docs/walls.md, "Loads on obstacles")
+  info.sample_obstacle_loads = true;  // ... and on wall samples (add_sample_pressure_reactions)
   info.wall_hooks = dfsph::kWallHooks;
   info.create = [](const MethodSetup& setup) { return std::make_unique<dfsph::DfsphMethod>(setup); };
   registry.add(std::move(info));

@@ -282,12 +282,8 @@ void add_viscous_acceleration(const ParticleSet& particles, const SphSystem& sys
       sum += viscous_pair(mass, rho_i, rho_j, r_ij, system.kernel.gradient[k], eta2, particles.velocity[i], vj);
     });
     if (system.has_samples()) {
-      const auto& w = *system.sample_kernel;
-      for_each_neighbour(*system.samples, i, [&](std::uint32_t k, const WallSample& sample) {
-        const Vec2 uw = sample_velocity(sample, particles.velocity);
-        const Vec2 r_iw = particles.position[i] - sample.position;
-        const double weight = r_iw.dot(w.gradient[k]) / (r_iw.squaredNorm() + eta2);
-        sum += w.mass[k] * (rho_i + rho0) / (rho_i * rho0) * weight * (particles.velocity[i] - uw);
+      for_each_neighbour(*system.samples, i, [&](std::uint32_t k, const WallSample&) {
+        sum += viscous_sample_pair(particles, system, rho_i, eta2, static_cast<std::size_t>(i), k);
       });
     }
     acceleration[i] += kinematic_viscosity * sum;
@@ -414,17 +410,13 @@ void add_sample_hydrostatic_acceleration(const ParticleSet& particles, const Sph
                                          const std::vector<double>& density, const Vec2& gravity,
                                          std::vector<Vec2>& acceleration) {
   if (!system.has_samples()) return;
-  const double rho0 = system.rest_density;
-  const auto& w = *system.sample_kernel;
   const auto n = static_cast<std::ptrdiff_t>(particles.size());
 #pragma omp parallel for schedule(static) if (n >= kThreadedLoopMinimum)
   for (std::ptrdiff_t i = 0; i < n; ++i) {
     if (particles.type[i] != ParticleType::Fluid) continue;
     Vec2 sum = Vec2::Zero();
-    for_each_neighbour(*system.samples, i, [&](std::uint32_t k, const WallSample& sample) {
-      const double offset = sample_pressure_offset(sample, particles.position, rho0, gravity);  // Pa
-      const double rho_s = density[sample.source];
-      sum -= w.mass[k] * offset / (rho_s * rho_s) * w.gradient[k];
+    for_each_neighbour(*system.samples, i, [&](std::uint32_t k, const WallSample&) {
+      sum -= sample_hydrostatic_pair(particles, system, density, gravity, k);
     });
     acceleration[i] += sum;
   }
@@ -521,7 +513,6 @@ void compute_wall_pressure_stencil(const ParticleSet& particles, const SphSystem
 void add_wall_hydrostatic_acceleration(const ParticleSet& particles, const SphSystem& system, const Vec2& gravity,
                                        std::vector<Vec2>& acceleration) {
   const auto& list = system.neighbours;
-  const double rho0 = system.rest_density;
   const WallPressureStencil* stencil = system.wall_pressure;
   const auto n = static_cast<std::ptrdiff_t>(particles.size());
 #pragma omp parallel for schedule(static) if (n >= kThreadedLoopMinimum)
@@ -535,17 +526,8 @@ void add_wall_hydrostatic_acceleration(const ParticleSet& particles, const SphSy
       });
     }
     if (system.has_samples()) {
-      const auto& w = *system.sample_kernel;
-      for_each_neighbour(*system.samples, i, [&](std::uint32_t k, const WallSample& sample) {
-        double s_hyd = 0.0;  // m^5/(kg s^2)
-        if (stencil != nullptr && stencil->sample_offsets[k + 1] > stencil->sample_offsets[k]) {
-          s_hyd = stencil->sample_hydrostatic[k];  // a wall point at rest: [AHA12] eq. (27)
-        } else {
-          // a mirror image: p_w - p_s = rho0 g.(x_w - x_s) (core/walls/wall_samples.hpp), over
-          // rho_w^2 = rho0^2, clamped at 0 as the boundary particles' part
-          s_hyd = std::max(sample_pressure_offset(sample, particles.position, rho0, gravity), 0.0) / (rho0 * rho0);
-        }
-        sum += w.mass[k] * s_hyd * w.gradient[k];
+      for_each_neighbour(*system.samples, i, [&](std::uint32_t k, const WallSample&) {
+        sum += wall_hydrostatic_sample_pair(particles, system, gravity, k);
       });
     }
     acceleration[i] -= sum;  // [BGI18]: the wall's own pressure in the symmetric force
@@ -591,6 +573,63 @@ std::uint32_t lattice_neighbour_count(double support, double spacing) {
     for (int b = -reach; b <= reach; ++b) count += (a != 0 || b != 0) && spacing * std::hypot(a, b) < support;
   }
   return count;
+}
+
+void add_sample_pressure_reactions(const ParticleSet& particles, const SphSystem& system,
+                                   const std::vector<double>& density, const std::vector<double>& density_stiffness,
+                                   const std::vector<double>& divergence_stiffness, std::vector<Vec2>& scratch,
+                                   WallSampleLoads& loads) {
+  if (!system.has_samples()) return;
+  std::vector<double> s(particles.size(), 0.0);  // the corrections' total s_f, m^5/(kg s^2)
+  for (std::size_t f = 0; f < particles.size(); ++f) {
+    if (particles.type[f] == ParticleType::Fluid) s[f] = (density_stiffness[f] + divergence_stiffness[f]) / density[f];
+  }
+  const SampleCache& cache = *system.sample_kernel;
+  const WallPressureStencil* stencil = system.wall_pressure;
+  const double m = system.particle_mass;
+  add_wall_sample_reactions(
+      particles, *system.samples,
+      [&](std::size_t i, std::uint32_t q, const WallSample&) -> Vec2 {
+        // dfsph_solvers.cpp, correct: i moved by -dt (s_i + s_w) own[q]; the source, if another
+        // particle, by +dt s_i reaction[q] (its image's constraint); s_w the sample's own
+        // extrapolated p_w / rho0^2 (wall_pressure = extrapolated), else 0.
+        const double s_w = stencil != nullptr
+                               ? extrapolated_sample_stiffness(*stencil, q, s.data(), density, system.rest_density)
+                               : 0.0;
+        return m * (s[i] * cache.reaction[q] - (s[i] + s_w) * cache.own[q]);
+      },
+      scratch, loads);
+}
+
+void add_sample_viscous_reactions(const ParticleSet& particles, const SphSystem& system,
+                                  const std::vector<double>& density, double kinematic_viscosity, double support,
+                                  std::vector<Vec2>& scratch, WallSampleLoads& loads) {
+  if (!system.has_samples()) return;
+  const double h = 0.5 * support;
+  const double eta2 = 0.01 * h * h;  // as add_viscous_acceleration
+  const double m = system.particle_mass;
+  add_wall_sample_reactions(
+      particles, *system.samples,
+      [&](std::size_t i, std::uint32_t q, const WallSample&) -> Vec2 {
+        return (m * kinematic_viscosity) * viscous_sample_pair(particles, system, density[i], eta2, i, q);
+      },
+      scratch, loads);
+}
+
+void add_sample_hydrostatic_reactions(const ParticleSet& particles, const SphSystem& system,
+                                      const std::vector<double>& density, const Vec2& gravity, bool sample_offset,
+                                      bool wall_pressure, std::vector<Vec2>& scratch, WallSampleLoads& loads) {
+  if (!system.has_samples() || (!sample_offset && !wall_pressure)) return;
+  const double m = system.particle_mass;
+  add_wall_sample_reactions(
+      particles, *system.samples,
+      [&](std::size_t, std::uint32_t q, const WallSample&) -> Vec2 {
+        Vec2 acceleration = Vec2::Zero();  // m/s^2, as the two explicit accelerations give i
+        if (sample_offset) acceleration -= sample_hydrostatic_pair(particles, system, density, gravity, q);
+        if (wall_pressure) acceleration -= wall_hydrostatic_sample_pair(particles, system, gravity, q);
+        return m * acceleration;
+      },
+      scratch, loads);
 }
 
 }  // namespace mps_lab::dfsph

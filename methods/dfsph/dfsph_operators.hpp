@@ -30,6 +30,7 @@
 // l0^2) at x_w, moving with u_w = M_w v_s (v_s: the current velocity of its source s) and
 // mirroring the pressure of its source: where a boundary particle's term has
 // s_i = kappa_i / rho_i, a sample's has s_s (for s = i exactly [AIA12]'s mirroring).
+#include <algorithm>
 #include <cstddef>
 #include <string>
 #include <vector>
@@ -37,6 +38,7 @@
 #include "core/base/particles.hpp"
 #include "core/kernels/sph_kernels.hpp"
 #include "core/search/neighbour_search.hpp"
+#include "core/walls/wall_sample_reactions.hpp"
 #include "core/walls/wall_samples.hpp"
 
 namespace mps_lab::dfsph {
@@ -176,6 +178,22 @@ inline double extrapolated_sample_stiffness(const WallPressureStencil& stencil, 
 // image max(0, rho0 g.(x_w - x_s)) / rho0^2). m/s^2.
 void add_wall_hydrostatic_acceleration(const ParticleSet& particles, const SphSystem& system, const Vec2& gravity,
                                        std::vector<Vec2>& acceleration);
+// Its term of wall sample q: Psi_w s_w,hyd grad W_iw, m/s^2 (subtracted from a_i); s_w,hyd the sample
+// row's part (a wall point at rest, [AHA12] eq. (27)) or, for a mirror image, p_w - p_s =
+// rho0 g.(x_w - x_s) over rho_w^2 = rho0^2, clamped at 0 as the boundary particles' part.
+inline Vec2 wall_hydrostatic_sample_pair(const ParticleSet& particles, const SphSystem& system, const Vec2& gravity,
+                                         std::uint32_t q) {
+  const WallPressureStencil* stencil = system.wall_pressure;
+  const double rho0 = system.rest_density;
+  double s_hyd = 0.0;  // m^5/(kg s^2)
+  if (stencil != nullptr && stencil->sample_offsets[q + 1] > stencil->sample_offsets[q]) {
+    s_hyd = stencil->sample_hydrostatic[q];
+  } else {
+    s_hyd = std::max(sample_pressure_offset(system.samples->samples[q], particles.position, rho0, gravity), 0.0) /
+            (rho0 * rho0);
+  }
+  return system.sample_kernel->mass[q] * s_hyd * system.sample_kernel->gradient[q];
+}
 
 // True if the wall sample is a wall point at rest that carries its owner's pressure (source =
 // owner, velocity_map = 0): under wall_pressure = extrapolated its pressure term is symmetric,
@@ -247,6 +265,17 @@ inline Vec2 viscous_pair(double mass_j, double rho_i, double rho_j, const Vec2& 
   return mass_j * (rho_i + rho_j) / (rho_i * rho_j) * weight * (v_i - v_j);
 }
 
+// What wall sample q of fluid particle i adds to the viscous sum of i (over nu): viscous_pair with
+// mass Psi_w, density rho0 and the sample's velocity u_w = M v_s + u_wall. rho_i in kg/m^3.
+inline Vec2 viscous_sample_pair(const ParticleSet& particles, const SphSystem& system, double rho_i, double eta2,
+                                std::size_t i, std::uint32_t q) {
+  const WallSample& sample = system.samples->samples[q];
+  const Vec2 uw = sample_velocity(sample, particles.velocity);
+  return viscous_pair(system.sample_kernel->mass[q], rho_i, system.rest_density,
+                      particles.position[i] - sample.position, system.sample_kernel->gradient[q], eta2,
+                      particles.velocity[i], uw);
+}
+
 // Laminar viscosity of [MFZ97] eq. (8) with mu = rho nu:
 //   a_i += sum_j m_j nu (rho_i + rho_j) / (rho_i rho_j) (r_ij . grad W_ij) / (|r_ij|^2 + eta^2) (v_i - v_j),
 // r_ij = x_i - x_j, eta = 0.1 h (h = support / 2). Boundary neighbours count with mass
@@ -286,6 +315,14 @@ void count_active_neighbours(const ParticleSet& particles, const SphSystem& syst
 void add_sample_hydrostatic_acceleration(const ParticleSet& particles, const SphSystem& system,
                                          const std::vector<double>& density, const Vec2& gravity,
                                          std::vector<Vec2>& acceleration);
+// Its term of sample q: Psi_w (rho0 g . (x_w - x_s)) / rho_s^2 grad W_iw, m/s^2 (subtracted from a_i).
+inline Vec2 sample_hydrostatic_pair(const ParticleSet& particles, const SphSystem& system,
+                                    const std::vector<double>& density, const Vec2& gravity, std::uint32_t q) {
+  const WallSample& sample = system.samples->samples[q];
+  const double offset = sample_pressure_offset(sample, particles.position, system.rest_density, gravity);  // Pa
+  const double rho_s = density[sample.source];
+  return system.sample_kernel->mass[q] * offset / (rho_s * rho_s) * system.sample_kernel->gradient[q];
+}
 
 // The pressure (Pa) of fluid particle i from the stiffnesses its two solvers applied in one
 // step: p_i = (kappa_i + kappa^v_i) rho_i. [BK17] eqs. (7)-(8) move i by
@@ -322,6 +359,26 @@ std::uint32_t lattice_neighbour_count(double support, double spacing);
 void add_boundary_pressure_reactions(const ParticleSet& particles, const SphSystem& system, const SphKernel& kernel,
                                      const std::vector<double>& density, const std::vector<double>& density_stiffness,
                                      const std::vector<double>& divergence_stiffness, std::vector<Vec2>& reaction);
+// The same on wall samples (core/walls/wall_sample_reactions.hpp), added to `loads` per obstacle
+// (`scratch` is reused storage). Pressure: the corrections of both solvers moved the owner i of
+// sample q by -dt (s_i + s_w) own[q] and its source s, if another particle (a mirror image), by
+// +dt s_i reaction[q] (dfsph_solvers.cpp, correct); with the total s_f = (kappa_f + kappa^v_f) /
+// rho_f the force on the fluid is m [s_i reaction[q] - (s_i + s_w) own[q]], s_w the sample's own
+// extrapolated part (wall_pressure = extrapolated) or 0. At the positions of the solves.
+void add_sample_pressure_reactions(const ParticleSet& particles, const SphSystem& system,
+                                   const std::vector<double>& density, const std::vector<double>& density_stiffness,
+                                   const std::vector<double>& divergence_stiffness, std::vector<Vec2>& scratch,
+                                   WallSampleLoads& loads);
+// Viscosity: m nu viscous_sample_pair, as add_viscous_acceleration gives i (support in m).
+void add_sample_viscous_reactions(const ParticleSet& particles, const SphSystem& system,
+                                  const std::vector<double>& density, double kinematic_viscosity, double support,
+                                  std::vector<Vec2>& scratch, WallSampleLoads& loads);
+// The explicit hydrostatic parts: add_sample_hydrostatic_acceleration (`sample_offset`) and the
+// samples' part of add_wall_hydrostatic_acceleration (`wall_pressure`, = extrapolated).
+void add_sample_hydrostatic_reactions(const ParticleSet& particles, const SphSystem& system,
+                                      const std::vector<double>& density, const Vec2& gravity, bool sample_offset,
+                                      bool wall_pressure, std::vector<Vec2>& scratch, WallSampleLoads& loads);
+
 // Viscosity: minus m nu viscous_pair over the fluid neighbours f of each boundary particle b (mass
 // Psi_b, density rho0, its prescribed velocity), as add_viscous_acceleration gives f.
 void add_boundary_viscous_reactions(const ParticleSet& particles, const SphSystem& system, const SphKernel& kernel,

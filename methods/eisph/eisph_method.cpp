@@ -80,6 +80,8 @@ class EisphMethod final : public Method {
     mass_ = rest_density_ / lattice_kernel_sum(kernel_, l0);
     // Loads on obstacles (MethodInfo::obstacle_loads): the reaction on wall particles, when there are both.
     computes_reactions_ = !scene_.walls.obstacles.empty() && walls_.wall_particles();
+    // ... and on each obstacle's wall samples (MethodInfo::sample_obstacle_loads).
+    computes_sample_loads_ = !scene_.walls.obstacles.empty() && !walls_.wall_particles();
     const double eta = kEtaOverSmoothingLength * h;
     settings_ = {rest_density_, mass_, eta * eta, scene_.physics.gravity, p.number("relaxation_factor")};
     source_term_ = p.string("source_term");
@@ -168,6 +170,10 @@ class EisphMethod final : public Method {
   // Loads on obstacles (core/walls/obstacle_loads.hpp): the fluid's force on each wall particle
   // in the last step, N/m; null without obstacles or without wall particles (Method::wall_reactions).
   const std::vector<Vec2>* wall_reactions() const override { return computes_reactions_ ? &reaction_ : nullptr; }
+  // The same on each obstacle's wall samples (core/walls/wall_sample_reactions.hpp).
+  const WallSampleLoads* wall_sample_loads() const override {
+    return computes_sample_loads_ ? &sample_loads_ : nullptr;
+  }
 
   // Cell-ordered particles (core/search/cell_order.hpp): what save_state keeps per particle.
   void permute_state(const ParticleOrder& order) override {
@@ -197,6 +203,14 @@ class EisphMethod final : public Method {
         if (scene_.physics.kinematic_viscosity > 0.0) {
           isph::add_viscous_wall_reactions(particles, neighbours_, kernel_, mass_, rest_density_field_,
                                            scene_.physics.kinematic_viscosity, settings_.eta2, reaction_);
+        }
+      }
+      if (computes_sample_loads_) {  // the same on the samples the viscous term used
+        sample_loads_.reset(scene_.walls.obstacles.size());
+        if (scene_.physics.kinematic_viscosity > 0.0) {
+          isph::add_viscous_sample_reactions(particles, samples_, kernel_, mass_, rest_density_field_, rest_density_,
+                                             scene_.physics.kinematic_viscosity, settings_.eta2, sample_scratch_,
+                                             sample_loads_);
         }
       }
     }
@@ -297,7 +311,12 @@ class EisphMethod final : public Method {
       isph::pressure_acceleration(particles, neighbours_, samples_,
                                   {rest_density_, scene_.physics.gravity, clamp_negative_pressure_}, kernel_, mass_,
                                   rest_density_field_, free_surface, gradient_form_, acceleration_,
-                                  computes_reactions_ ? &renormalisation_ : nullptr);
+                                  computes_reactions_ || computes_sample_loads_ ? &renormalisation_ : nullptr);
+      if (computes_sample_loads_) {
+        isph::add_pressure_sample_reactions(
+            particles, samples_, {rest_density_, scene_.physics.gravity, clamp_negative_pressure_}, kernel_, mass_,
+            rest_density_field_, free_surface, gradient_form_, renormalisation_, sample_scratch_, sample_loads_);
+      }
       if (computes_reactions_) {
         isph::add_pressure_wall_reactions(particles, neighbours_, kernel_, mass_, rest_density_field_, free_surface,
                                           gradient_form_, renormalisation_, reaction_);
@@ -366,7 +385,10 @@ class EisphMethod final : public Method {
   WallSampleList samples_;          // of the boundary model, at the positions of the last search
   std::vector<Vec2> acceleration_;  // m/s^2
   bool computes_reactions_ = false;
-  std::vector<Vec2> reaction_;                    // the fluid's force on each wall particle in this step, N/m
+  std::vector<Vec2> reaction_;  // the fluid's force on each wall particle in this step, N/m
+  bool computes_sample_loads_ = false;
+  WallSampleLoads sample_loads_;                  // the fluid's force on each obstacle's wall samples in this step
+  std::vector<Vec2> sample_scratch_;              // per sample, N/m (core/walls/wall_sample_reactions.hpp)
   std::vector<Eigen::Matrix2d> renormalisation_;  // L_i of the step's pressure gradient
   std::vector<Vec2> predicted_velocity_;          // m/s
   std::vector<double> source_;                    // 1/s^2
@@ -437,7 +459,8 @@ void mps_lab_register_method_eisph(mps_lab::MethodRegistry& registry) {
   info.default_wall_treatments = {"adami_wall_particles", "wall_position_clamp"};
   info.wall_samples = true;  // every operator and the sweep also sum over wall samples
   info.wall_particle_models = {WallParticlePressure::AdamiExtrapolated};  // adami_wall_particles
-  info.obstacle_loads = true;  // isph's wall pair terms and their reaction (docs/walls.md, "Loads on obstacles")
+  info.obstacle_loads = true;         // isph's wall pair terms and their reaction (docs/walls.md, "Loads on obstacles")
+  info.sample_obstacle_loads = true;  // ... and of its wall-sample pair terms
   info.wall_hooks = eisph::kWallHooks;
   const auto time_step_specs =
       time_step_parameters({"cfl", 0.2, 1.0e-6, 2.0e-3,

@@ -73,6 +73,8 @@ class IsphMethod final : public Method {
     eta2_ = (kEtaOverSmoothingLength * h) * (kEtaOverSmoothingLength * h);
     // Loads on obstacles (MethodInfo::obstacle_loads): the reaction on wall particles, when there are both.
     computes_reactions_ = !scene_.walls.obstacles.empty() && walls_.wall_particles();
+    // ... and on the wall samples of each obstacle (MethodInfo::sample_obstacle_loads).
+    computes_sample_loads_ = !scene_.walls.obstacles.empty() && !walls_.wall_particles();
     source_term_ = source_term_from_name(p.string("source_term"));
     density_relaxation_ = p.number("density_relaxation");
     free_surface_rule_ =
@@ -189,6 +191,11 @@ class IsphMethod final : public Method {
   // Loads on obstacles (core/walls/obstacle_loads.hpp): the fluid's force on each wall particle
   // in the last step, N/m; null without obstacles or without wall particles (Method::wall_reactions).
   const std::vector<Vec2>* wall_reactions() const override { return computes_reactions_ ? &reaction_ : nullptr; }
+  // The same on each obstacle's wall samples (core/walls/wall_sample_reactions.hpp); null without
+  // obstacles or with wall particles.
+  const WallSampleLoads* wall_sample_loads() const override {
+    return computes_sample_loads_ ? &sample_loads_ : nullptr;
+  }
 
   // Cell-ordered particles (core/search/cell_order.hpp): what save_state keeps per particle.
   void permute_state(const ParticleOrder& order) override {
@@ -205,8 +212,8 @@ class IsphMethod final : public Method {
         {"neighbour_list", held_bytes(neighbours_.offsets, neighbours_.indices)},
         {"cell_list", cells_.held_bytes()},
         {"wall_samples", held_bytes(samples_.offsets, samples_.samples)},
-        {"step_arrays", held_bytes(acceleration_, reaction_, renormalisation_, start_position_, start_velocity_,
-                                   source_, position_divergence_, rest_density_field_)}};
+        {"step_arrays", held_bytes(acceleration_, reaction_, sample_scratch_, renormalisation_, start_position_,
+                                   start_velocity_, source_, position_divergence_, rest_density_field_)}};
     append_breakdown(out, "ppe", ppe_.memory_breakdown());
     return out;
   }
@@ -231,12 +238,17 @@ class IsphMethod final : public Method {
         acceleration_[i] = particles.type[i] == ParticleType::Fluid ? gravity : Vec2::Zero();
       }
       if (computes_reactions_) reaction_.assign(particles.size(), Vec2::Zero());
+      if (computes_sample_loads_) sample_loads_.reset(scene_.walls.obstacles.size());
       if (scene_.physics.kinematic_viscosity > 0.0) {
         add_viscous_acceleration(particles, neighbours_, samples_, kernel_, mass_, operator_density(density),
                                  rest_density_, scene_.physics.kinematic_viscosity, eta2_, acceleration_);
         if (computes_reactions_) {  // its wall terms' reaction, before u changes
           add_viscous_wall_reactions(particles, neighbours_, kernel_, mass_, operator_density(density),
                                      scene_.physics.kinematic_viscosity, eta2_, reaction_);
+        }
+        if (computes_sample_loads_) {  // with the samples of the last search, which the viscous term used
+          add_viscous_sample_reactions(particles, samples_, kernel_, mass_, operator_density(density), rest_density_,
+                                       scene_.physics.kinematic_viscosity, eta2_, sample_scratch_, sample_loads_);
         }
       }
     }
@@ -324,7 +336,12 @@ class IsphMethod final : public Method {
       const auto timed = measure(timers_, operators_phase_);
       pressure_acceleration(particles, neighbours_, samples_, {rest_density_, gravity, clamp_negative_pressure_},
                             kernel_, mass_, rho, free_surface, gradient_form_, acceleration_,
-                            computes_reactions_ ? &renormalisation_ : nullptr);
+                            computes_reactions_ || computes_sample_loads_ ? &renormalisation_ : nullptr);
+      if (computes_sample_loads_) {
+        add_pressure_sample_reactions(particles, samples_, {rest_density_, gravity, clamp_negative_pressure_}, kernel_,
+                                      mass_, rho, free_surface, gradient_form_, renormalisation_, sample_scratch_,
+                                      sample_loads_);
+      }
       if (computes_reactions_) {
         add_pressure_wall_reactions(particles, neighbours_, kernel_, mass_, rho, free_surface, gradient_form_,
                                     renormalisation_, reaction_);
@@ -463,7 +480,10 @@ class IsphMethod final : public Method {
   PressurePoissonSolver ppe_;
   std::vector<Vec2> acceleration_;  // m/s^2
   bool computes_reactions_ = false;
-  std::vector<Vec2> reaction_;                    // the fluid's force on each wall particle in this step, N/m
+  std::vector<Vec2> reaction_;  // the fluid's force on each wall particle in this step, N/m
+  bool computes_sample_loads_ = false;
+  WallSampleLoads sample_loads_;                  // the fluid's force on each obstacle's wall samples in this step
+  std::vector<Vec2> sample_scratch_;              // per sample, N/m (core/walls/wall_sample_reactions.hpp)
   std::vector<Eigen::Matrix2d> renormalisation_;  // L_i of the step's pressure gradient
   std::vector<Vec2> start_position_;              // r^n (trapezoidal update only)
   std::vector<Vec2> start_velocity_;              // u^n (trapezoidal update only)
@@ -566,6 +586,7 @@ void mps_lab_register_method_isph(mps_lab::MethodRegistry& registry) {
   info.wall_particle_models = {WallParticlePressure::AdamiExtrapolated};  // adami_wall_particles
   info.moving_walls = true;  // wall velocity in the viscous term and the wall pressure (docs/walls.md, "Moving walls")
   info.obstacle_loads = true;  // the reaction of its wall-particle pair terms (docs/walls.md, "Loads on obstacles")
+  info.sample_obstacle_loads = true;  // ... and of its wall-sample pair terms
   info.wall_hooks = isph::kWallHooks;
   // The step: the scene's fixed step by default (as mps); "cfl" adapts it to the flow. 0.25
   // keeps a margin below the largest stable fixed Courant number 0.4 measured with

@@ -77,10 +77,7 @@ void add_viscous_acceleration(const ParticleSet& particles, const NeighbourList&
     });
     for_each_neighbour(samples, i, [&](const WallSample& wall) {
       if (particles.type[wall.source] == ParticleType::Ghost) return;
-      const double factor = laplacian_pair_factor(kernel, particles.position[i] - wall.position, eta2);
-      const Vec2 u_w = sample_velocity(wall, particles.velocity);
-      sum += mass * wall.volume * (density[i] + rest_density) / (density[i] * rest_density) * factor *
-             (particles.velocity[i] - u_w);
+      sum += viscous_sample_pair(particles, kernel, mass, density, rest_density, eta2, i, wall);
     });
     acceleration[i] += kinematic_viscosity * sum;
   });
@@ -153,8 +150,6 @@ void pressure_acceleration(const ParticleSet& particles, const NeighbourList& ne
     if (particles.type[i] != ParticleType::Fluid) continue;
     const bool corrected = corrected_gradient(form, free_surface[i]);
     const bool symmetric = symmetric_gradient(form, free_surface[i]);
-    const double p_i = particles.pressure[i];
-    const double rho_i = density[i];
     Vec2 sum = Vec2::Zero();                           // grad p_i / rho_i, m/s^2
     Eigen::Matrix2d moment = Eigen::Matrix2d::Zero();  // sum_j V_j grad W_ij (x_j - x_i)^T
     for_each_neighbour(neighbours, i, [&](std::uint32_t j) {
@@ -168,16 +163,10 @@ void pressure_acceleration(const ParticleSet& particles, const NeighbourList& ne
     // Wall samples: particles of mass m V_w, density rho0, pressure p_s + rho0 g . (x_w - x_s).
     for_each_neighbour(samples, i, [&](const WallSample& wall) {
       if (particles.type[wall.source] == ParticleType::Ghost) return;
-      const Vec2 r_iw = particles.position[i] - wall.position;
-      const Vec2 gradient = kernel.gradient(r_iw);
-      double p_w = sample_pressure(wall, particles.pressure, particles.position, rho_w, sample_rule.gravity);
-      if (sample_rule.clamp_negative) p_w = std::max(p_w, 0.0);
-      const double m_w = mass * wall.volume;
-      if (symmetric) {
-        sum += m_w * (p_i / (rho_i * rho_i) + p_w / (rho_w * rho_w)) * gradient;
-      } else {
-        sum += m_w / (rho_i * rho_w) * (p_w - p_i) * gradient;
-        moment -= m_w / rho_w * gradient * r_iw.transpose();
+      sum += pressure_sample_pair(particles, sample_rule, kernel, mass, density, symmetric, i, wall);
+      if (!symmetric) {
+        const Vec2 r_iw = particles.position[i] - wall.position;
+        moment -= mass * wall.volume / rho_w * kernel.gradient(r_iw) * r_iw.transpose();
       }
     });
     if (corrected && std::fabs(moment.determinant()) > kMinimumMomentDeterminant) {
@@ -214,6 +203,38 @@ void add_viscous_wall_reactions(const ParticleSet& particles, const NeighbourLis
         return (mass * kinematic_viscosity) * viscous_pair(particles, kernel, mass, density, eta2, i, j);
       },
       reaction);
+}
+
+void add_pressure_sample_reactions(const ParticleSet& particles, const WallSampleList& samples,
+                                   const SamplePressure& rule, const SphKernel& kernel, double mass,
+                                   const std::vector<double>& density, const std::vector<double>& free_surface,
+                                   PressureGradientForm form, const std::vector<Eigen::Matrix2d>& renormalisation,
+                                   std::vector<Vec2>& scratch, WallSampleLoads& loads) {
+  // The force on i from sample w: m a_iw = -m L_i pressure_sample_pair(i, w) (pressure_acceleration).
+  add_wall_sample_reactions(
+      particles, samples,
+      [&](std::size_t i, std::uint32_t, const WallSample& wall) -> Vec2 {
+        if (particles.type[wall.source] == ParticleType::Ghost) return Vec2::Zero();
+        const bool symmetric = symmetric_gradient(form, free_surface[i]);
+        return -mass *
+               (renormalisation[i] * pressure_sample_pair(particles, rule, kernel, mass, density, symmetric, i, wall));
+      },
+      scratch, loads);
+}
+
+void add_viscous_sample_reactions(const ParticleSet& particles, const WallSampleList& samples, const SphKernel& kernel,
+                                  double mass, const std::vector<double>& density, double rest_density,
+                                  double kinematic_viscosity, double eta2, std::vector<Vec2>& scratch,
+                                  WallSampleLoads& loads) {
+  // The force on i from sample w: m nu viscous_sample_pair(i, w) (add_viscous_acceleration).
+  add_wall_sample_reactions(
+      particles, samples,
+      [&](std::size_t i, std::uint32_t, const WallSample& wall) -> Vec2 {
+        if (particles.type[wall.source] == ParticleType::Ghost) return Vec2::Zero();
+        return (mass * kinematic_viscosity) *
+               viscous_sample_pair(particles, kernel, mass, density, rest_density, eta2, i, wall);
+      },
+      scratch, loads);
 }
 
 }  // namespace mps_lab::isph

@@ -26,12 +26,14 @@
 //     the position divergence used for free-surface detection.
 //   Bonet & Lok (1999), Comput. Methods Appl. Mech. Engrg. 180, 97-115, and Khayyer, Gotoh &
 //     Shao (2008), Coastal Eng. 55, 236-250: the renormalised (corrected) gradient.
+#include <algorithm>
 #include <string>
 #include <vector>
 
 #include "core/base/particles.hpp"
 #include "core/kernels/sph_kernels.hpp"
 #include "core/search/neighbour_search.hpp"
+#include "core/walls/wall_sample_reactions.hpp"
 #include "core/walls/wall_samples.hpp"
 
 namespace mps_lab::isph {
@@ -95,6 +97,17 @@ inline Vec2 viscous_pair(const ParticleSet& particles, const SphKernel& kernel, 
   const Vec2 u_j =
       particles.type[j] == ParticleType::Wall ? particles.prescribed_wall_velocity(j) : particles.velocity[j];
   return mass * (density[i] + density[j]) / (density[i] * density[j]) * factor * (particles.velocity[i] - u_j);
+}
+
+// What wall sample w adds to the viscous sum of i: viscous_pair with mass m V_w, density rho0 and
+// the sample's velocity u_w. Shared by add_viscous_acceleration and add_viscous_sample_reactions.
+inline Vec2 viscous_sample_pair(const ParticleSet& particles, const SphKernel& kernel, double mass,
+                                const std::vector<double>& density, double rest_density, double eta2, std::size_t i,
+                                const WallSample& wall) {
+  const double factor = laplacian_pair_factor(kernel, particles.position[i] - wall.position, eta2);
+  const Vec2 u_w = sample_velocity(wall, particles.velocity);
+  return mass * wall.volume * (density[i] + rest_density) / (density[i] * rest_density) * factor *
+         (particles.velocity[i] - u_w);
 }
 
 // Adds nu <lap u>_i to the acceleration of every fluid particle (the laminar viscous term of
@@ -191,6 +204,22 @@ struct SamplePressure {
   bool clamp_negative = true;
 };
 
+// What wall sample w adds to grad p_i / rho_i before the renormalisation, m/s^2: pressure_pair with
+// mass m V_w, density rho0 and the pressure p_w of `rule`. Shared by pressure_acceleration and the
+// reaction on wall samples (add_pressure_sample_reactions).
+inline Vec2 pressure_sample_pair(const ParticleSet& particles, const SamplePressure& rule, const SphKernel& kernel,
+                                 double mass, const std::vector<double>& density, bool symmetric, std::size_t i,
+                                 const WallSample& wall) {
+  const double rho_w = rule.rest_density;
+  const Vec2 gradient = kernel.gradient(particles.position[i] - wall.position);
+  double p_w = sample_pressure(wall, particles.pressure, particles.position, rho_w, rule.gravity);
+  if (rule.clamp_negative) p_w = std::max(p_w, 0.0);
+  const double m_w = mass * wall.volume;
+  const double p_i = particles.pressure[i], rho_i = density[i];
+  if (symmetric) return m_w * (p_i / (rho_i * rho_i) + p_w / (rho_w * rho_w)) * gradient;
+  return m_w / (rho_i * rho_w) * (p_w - p_i) * gradient;
+}
+
 // Writes a_i = -grad p_i / rho_i for fluid particles (0 elsewhere) from particles.pressure,
 // over every non-ghost neighbour (wall particles carry their extrapolated pressure) and the
 // wall samples (mass m V_w, density rho0, pressure by `sample_rule`; in the
@@ -221,5 +250,18 @@ void add_pressure_wall_reactions(const ParticleSet& particles, const NeighbourLi
 void add_viscous_wall_reactions(const ParticleSet& particles, const NeighbourList& neighbours, const SphKernel& kernel,
                                 double mass, const std::vector<double>& density, double kinematic_viscosity,
                                 double eta2, std::vector<Vec2>& reaction);
+
+// The same on wall samples (core/walls/wall_sample_reactions.hpp): adds to `loads` the reaction of each
+// obstacle's samples, -m L_i pressure_sample_pair and m nu viscous_sample_pair, with the inputs the
+// fluid's operators had (the samples of that operator; `scratch` is reused storage).
+void add_pressure_sample_reactions(const ParticleSet& particles, const WallSampleList& samples,
+                                   const SamplePressure& rule, const SphKernel& kernel, double mass,
+                                   const std::vector<double>& density, const std::vector<double>& free_surface,
+                                   PressureGradientForm form, const std::vector<Eigen::Matrix2d>& renormalisation,
+                                   std::vector<Vec2>& scratch, WallSampleLoads& loads);
+void add_viscous_sample_reactions(const ParticleSet& particles, const WallSampleList& samples, const SphKernel& kernel,
+                                  double mass, const std::vector<double>& density, double rest_density,
+                                  double kinematic_viscosity, double eta2, std::vector<Vec2>& scratch,
+                                  WallSampleLoads& loads);
 
 }  // namespace mps_lab::isph

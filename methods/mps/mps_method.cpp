@@ -80,6 +80,10 @@ class MpsMethod final : public Method {
     // Loads on obstacles (MethodInfo::obstacle_loads): the reaction on wall particles, when there are both.
     computes_reactions_ = !scene_.walls.obstacles.empty() && walls_.wall_particles();
     surface_loads_ = p.string("obstacle_load") == "wall_pressure";
+    // With a boundary model of wall samples (MethodInfo::sample_obstacle_loads): the reaction of the
+    // sample pairs (pair_reaction), or, for wall_pressure, none here: the driver integrates the wall's
+    // pressure over the surface (core/walls/surface_pressure_loads.hpp).
+    computes_sample_loads_ = !scene_.walls.obstacles.empty() && !walls_.wall_particles() && !surface_loads_;
     particle_mass_ = scene_.physics.density * l0 * l0;
   }
 
@@ -176,6 +180,9 @@ class MpsMethod final : public Method {
   // Loads on obstacles (core/walls/obstacle_loads.hpp): the fluid's force on each wall particle
   // in the last step, N/m; null without obstacles or without wall particles (Method::wall_reactions).
   const std::vector<Vec2>* wall_reactions() const override { return computes_reactions_ ? &reaction_ : nullptr; }
+  const WallSampleLoads* wall_sample_loads() const override {
+    return computes_sample_loads_ ? &sample_loads_ : nullptr;
+  }
   // obstacle_load wall_pressure: the surface integral of the wall's pressure; pair_reaction: the wall pairs'.
   ObstacleLoadKind obstacle_load_kind() const override {
     return surface_loads_ ? ObstacleLoadKind::SurfacePressure : ObstacleLoadKind::PairReaction;
@@ -184,13 +191,14 @@ class MpsMethod final : public Method {
   // `mps_lab bench`'s memory breakdown (docs/performance.md, "Memory"): the search, the
   // per-particle arrays of the step, the obstacles' surface and the pressure solve.
   MemoryBreakdown memory_breakdown() const override {
-    MemoryBreakdown out = {{"neighbour_list", held_bytes(neighbours_.offsets, neighbours_.indices)},
-                           {"cell_list", cells_.held_bytes()},
-                           {"wall_samples", held_bytes(samples_.offsets, samples_.samples)},
-                           {"step_arrays", held_bytes(acceleration_, reaction_, wetted_, carries_pressure_,
-                                                      scheme_rate_, scheme_source_, minimum_pressure_)},
-                           {"obstacle_surface", held_bytes(surface_.element_of_id, surface_.rest_position_of_id,
-                                                           surface_.rest_mean, surface_.members)}};
+    MemoryBreakdown out = {
+        {"neighbour_list", held_bytes(neighbours_.offsets, neighbours_.indices)},
+        {"cell_list", cells_.held_bytes()},
+        {"wall_samples", held_bytes(samples_.offsets, samples_.samples)},
+        {"step_arrays", held_bytes(acceleration_, reaction_, sample_scratch_, wetted_, carries_pressure_, scheme_rate_,
+                                   scheme_source_, minimum_pressure_)},
+        {"obstacle_surface",
+         held_bytes(surface_.element_of_id, surface_.rest_position_of_id, surface_.rest_mean, surface_.members)}};
     append_breakdown(out, "ppe", ppe_.memory_breakdown());
     return out;
   }
@@ -238,12 +246,17 @@ class MpsMethod final : public Method {
         acceleration_[i] = particles.type[i] == ParticleType::Fluid ? gravity : Vec2::Zero();  // 5.1-1
       }
       if (computes_reactions_) reaction_.assign(particles.size(), Vec2::Zero());
+      if (computes_sample_loads_) sample_loads_.reset(scene_.walls.obstacles.size());
       if (scene_.physics.kinematic_viscosity > 0.0) {  // 5.1-2 (costs nothing when nu = 0)
         add_viscous_acceleration(particles, neighbours_, samples_, laplacian_radius_,
                                  scene_.physics.kinematic_viscosity, acceleration_);
         if (computes_reactions_) {  // its wall terms' reaction, before u changes
           add_viscous_wall_reactions(particles, neighbours_, laplacian_radius_, scene_.physics.kinematic_viscosity,
                                      particle_mass_, reaction_);
+        }
+        if (computes_sample_loads_) {  // with the samples the viscous term used (those of the last search)
+          add_viscous_sample_reactions(particles, samples_, laplacian_radius_, scene_.physics.kinematic_viscosity,
+                                       particle_mass_, sample_scratch_, sample_loads_);
         }
       }
     }
@@ -314,7 +327,7 @@ class MpsMethod final : public Method {
         pressure_acceleration(particles, neighbours_, samples_, gradient_radius_, carries_pressure_,
                               scene_.physics.density, scene_.physics.gravity, min_includes_self_, acceleration_);
       }
-      if (computes_reactions_) pressure_reactions(particles);
+      if (computes_reactions_ || computes_sample_loads_) pressure_reactions(particles);
     }
     {
       const auto timed = measure(timers_, integration_phase_);
@@ -335,8 +348,9 @@ class MpsMethod final : public Method {
 
   // The pressure's load on the wall particles: obstacle_load wall_pressure, the wall particles'
   // pressure of this step's solve over the surface each stands for (mps_loads.hpp); pair_reaction,
-  // the reaction of the pressure term's wall pairs (add_pressure_wall_reactions), with the P_min
-  // of the spec's gradient (CMPS has its Phat already).
+  // the reaction of the pressure term's wall pairs (add_pressure_wall_reactions), or of its wall
+  // samples' pairs (add_pressure_sample_reactions), with the P_min of the spec's gradient (CMPS has
+  // its Phat already).
   void pressure_reactions(const ParticleSet& particles) {
     if (surface_loads_) {
       wetted_wall_particles(particles, neighbours_, gradient_radius_.re, wetted_);
@@ -349,6 +363,12 @@ class MpsMethod final : public Method {
     if (!cmps) {
       neighbourhood_minimum(particles, neighbours_, samples_, gradient_radius_, carries_pressure_,
                             scene_.physics.density, scene_.physics.gravity, min_includes_self_, minimum_pressure_);
+    }
+    if (computes_sample_loads_) {
+      add_pressure_sample_reactions(particles, samples_, gradient_radius_, minimum_pressure_, cmps,
+                                    scene_.physics.density, scene_.physics.gravity, particle_mass_, sample_scratch_,
+                                    sample_loads_);
+      return;
     }
     add_pressure_wall_reactions(particles, neighbours_, gradient_radius_, carries_pressure_, minimum_pressure_, cmps,
                                 scene_.physics.density, particle_mass_, reaction_);
@@ -422,6 +442,9 @@ class MpsMethod final : public Method {
   ObstacleSurface surface_;     // the obstacles' surface wall particles (wall_pressure)
   double particle_mass_ = 0.0;  // rho l0^2, kg/m
   std::vector<Vec2> reaction_;  // the fluid's force on each wall particle in this step, N/m
+  bool computes_sample_loads_ = false;
+  WallSampleLoads sample_loads_;      // the fluid's force on each obstacle's wall samples in this step
+  std::vector<Vec2> sample_scratch_;  // per sample, N/m (core/walls/wall_sample_reactions.hpp)
   CellList cells_;
   NeighbourList neighbours_;
   WallSampleList samples_;  // of the boundary model, at the positions of the last search
@@ -507,6 +530,7 @@ void mps_lab_register_method_mps(mps_lab::MethodRegistry& registry) {
   info.wall_particle_models = {WallParticlePressure::SolvedInPpe};  // spec_wall_particles
   info.moving_walls = true;  // wall velocity in the viscous term and the wall pressure (docs/walls.md, "Moving walls")
   info.obstacle_loads = true;  // obstacle_load: the wall pressure over the surface, or the spec §2 wall pairs' reaction
+  info.sample_obstacle_loads = true;  // ... with wall samples too (the surface pressure: the driver's)
   info.wall_hooks = mps::kWallHooks;
   info.create = [](const MethodSetup& setup) { return std::make_unique<mps::MpsMethod>(setup); };
   registry.add(std::move(info));

@@ -70,10 +70,8 @@ void add_viscous_acceleration(const ParticleSet& particles, const NeighbourList&
     for_each_neighbour(neighbours, i, [&](std::uint32_t j) {
       if (particles.type[j] != ParticleType::Ghost) sum += laplacian_pair(particles, i, j, radius);
     });
-    for_each_neighbour(samples, i, [&](const WallSample& wall) {
-      const double w = mps_weight((wall.position - particles.position[i]).norm(), radius.re, radius.r_min);
-      sum += wall.volume * (sample_velocity(wall, particles.velocity) - particles.velocity[i]) * w;
-    });
+    for_each_neighbour(samples, i,
+                       [&](const WallSample& wall) { sum += laplacian_sample_pair(particles, i, wall, radius); });
     acceleration[i] += coefficient * sum;
   });
 }
@@ -82,13 +80,11 @@ void pressure_acceleration(const ParticleSet& particles, const NeighbourList& ne
                            const OperatorRadius& radius, const std::vector<char>& carries_pressure, double density,
                            const Vec2& gravity, bool min_includes_self, std::vector<Vec2>& acceleration) {
   const double coefficient = kDimension / radius.n0;
-  const double r_min2 = radius.r_min * radius.r_min;
   const auto n = static_cast<std::ptrdiff_t>(particles.size());
 #pragma omp parallel for schedule(static)
   for (std::ptrdiff_t i = 0; i < n; ++i) {
     acceleration[i] = Vec2::Zero();
     if (particles.type[i] != ParticleType::Fluid) continue;
-    const Vec2 xi = particles.position[i];
     const double p_min = minimum_pressure_of(particles, neighbours, samples, radius, carries_pressure, density, gravity,
                                              min_includes_self, i);
     Vec2 gradient = Vec2::Zero();  // Pa/m
@@ -97,12 +93,7 @@ void pressure_acceleration(const ParticleSet& particles, const NeighbourList& ne
       gradient += gradient_pair(particles, i, j, p_min, radius);
     });
     for_each_neighbour(samples, i, [&](const WallSample& wall) {
-      const Vec2 r_iw = wall.position - xi;
-      const double r = r_iw.norm();
-      const double w = mps_weight(r, radius.re, radius.r_min);
-      if (w == 0.0) return;
-      const double p_w = sample_pressure(wall, particles.pressure, particles.position, density, gravity);
-      gradient += wall.volume * (p_w - p_min) / std::max(r * r, r_min2) * w * r_iw;
+      gradient += gradient_sample_pair(particles, i, wall, p_min, radius, density, gravity);
     });
     acceleration[i] = -(coefficient / density) * gradient;
   }
@@ -149,6 +140,35 @@ void add_pressure_wall_reactions(const ParticleSet& particles, const NeighbourLi
                                    : gradient_pair(particles, i, j, minimum_pressure[i], radius));
       },
       reaction);
+}
+
+void add_viscous_sample_reactions(const ParticleSet& particles, const WallSampleList& samples,
+                                  const OperatorRadius& radius, double kinematic_viscosity, double particle_mass,
+                                  std::vector<Vec2>& scratch, WallSampleLoads& loads) {
+  // The force on i from sample w: m nu (2d / (n0 lambda)) V_w (u_w - u_i) w_iw (add_viscous_acceleration).
+  const double coefficient = laplacian_coefficient(radius, kinematic_viscosity);  // 1/s
+  add_wall_sample_reactions(
+      particles, samples,
+      [&](std::size_t i, std::uint32_t, const WallSample& wall) -> Vec2 {
+        return (particle_mass * coefficient) * laplacian_sample_pair(particles, i, wall, radius);
+      },
+      scratch, loads);
+}
+
+void add_pressure_sample_reactions(const ParticleSet& particles, const WallSampleList& samples,
+                                   const OperatorRadius& radius, const std::vector<double>& minimum_pressure, bool cmps,
+                                   double density, const Vec2& gravity, double particle_mass,
+                                   std::vector<Vec2>& scratch, WallSampleLoads& loads) {
+  // The force on i from sample w: -m (d / (n0 rho)) times the sample's pair term of <grad P>_i.
+  const double coefficient = -particle_mass * kDimension / (radius.n0 * density);  // per metre of depth
+  add_wall_sample_reactions(
+      particles, samples,
+      [&](std::size_t i, std::uint32_t, const WallSample& wall) -> Vec2 {
+        return coefficient *
+               (cmps ? cmps_gradient_sample_pair(particles, i, wall, minimum_pressure[i], radius, density, gravity)
+                     : gradient_sample_pair(particles, i, wall, minimum_pressure[i], radius, density, gravity));
+      },
+      scratch, loads);
 }
 
 }  // namespace mps_lab::mps

@@ -9,6 +9,7 @@
 
 #include "core/base/particles.hpp"
 #include "core/search/neighbour_search.hpp"
+#include "core/walls/wall_sample_reactions.hpp"
 #include "core/walls/wall_samples.hpp"
 #include "methods/mps/mps_kernels.hpp"
 
@@ -59,7 +60,36 @@ inline Vec2 cmps_gradient_pair(const ParticleSet& particles, std::size_t i, std:
 
 // Every operator also sums over the wall samples of i when the boundary model has them
 // (core/walls/wall_samples.hpp; an empty list adds nothing): a sample is a neighbour of volume V_w
-// (its weight counts V_w times), velocity u_w and pressure p_w.
+// (its weight counts V_w times), velocity u_w and pressure p_w. Its pair terms, shared by the
+// operators and by the fluid's reaction on the samples (add_*_sample_reactions):
+// Laplacian: what sample w adds to sum (u_j - u_i) w_ij, V_w (u_w - u_i) w_iw, m/s.
+inline Vec2 laplacian_sample_pair(const ParticleSet& particles, std::size_t i, const WallSample& wall,
+                                  const OperatorRadius& radius) {
+  const double w = mps_weight((wall.position - particles.position[i]).norm(), radius.re, radius.r_min);
+  return wall.volume * (sample_velocity(wall, particles.velocity) - particles.velocity[i]) * w;
+}
+// Gradient: V_w (p_w - P_min,i) / |r_iw|^2 r_iw w_iw, Pa/m, p_w = p_s + rho (g - a_w) . (x_w - x_s).
+inline Vec2 gradient_sample_pair(const ParticleSet& particles, std::size_t i, const WallSample& wall, double p_min,
+                                 const OperatorRadius& radius, double density, const Vec2& gravity) {
+  const Vec2 r_iw = wall.position - particles.position[i];
+  const double r = r_iw.norm();
+  const double w = mps_weight(r, radius.re, radius.r_min);
+  if (w == 0.0) return Vec2::Zero();
+  const double p_w = sample_pressure(wall, particles.pressure, particles.position, density, gravity);
+  return wall.volume * (p_w - p_min) / std::max(r * r, radius.r_min * radius.r_min) * w * r_iw;
+}
+// CMPS: V_w [(P_i + p_w) - 2 Phat_i] / |r_iw|^2 r_iw w_iw, Pa/m (a sample's Phat is i's).
+inline Vec2 cmps_gradient_sample_pair(const ParticleSet& particles, std::size_t i, const WallSample& wall,
+                                      double p_hat_i, const OperatorRadius& radius, double density,
+                                      const Vec2& gravity) {
+  const Vec2 r_iw = wall.position - particles.position[i];
+  const double r = r_iw.norm();
+  const double w = mps_weight(r, radius.re, radius.r_min);
+  if (w == 0.0) return Vec2::Zero();
+  const double p_w = sample_pressure(wall, particles.pressure, particles.position, density, gravity);
+  return wall.volume * ((particles.pressure[i] + p_w) - 2.0 * p_hat_i) / std::max(r * r, radius.r_min * radius.r_min) *
+         w * r_iw;
+}
 
 // n_i = sum_j w(|r_j - r_i|, re) + sum_w V_w w(|r_w - r_i|, re) over every non-ghost
 // neighbour and wall sample (spec §2, PND; the sample sum is Harada et al. 2008's wall weight
@@ -103,5 +133,16 @@ void add_pressure_wall_reactions(const ParticleSet& particles, const NeighbourLi
                                  const OperatorRadius& radius, const std::vector<char>& carries_pressure,
                                  const std::vector<double>& minimum_pressure, bool cmps, double density,
                                  double particle_mass, std::vector<Vec2>& reaction);
+
+// The same on wall samples (obstacle_load pair_reaction with a boundary model of wall samples; core/walls/
+// wall_sample_reactions.hpp): adds to `loads` the reaction of each obstacle's samples of the viscous and
+// the pressure term, with the samples and inputs the operator had (`scratch` is reused storage).
+void add_viscous_sample_reactions(const ParticleSet& particles, const WallSampleList& samples,
+                                  const OperatorRadius& radius, double kinematic_viscosity, double particle_mass,
+                                  std::vector<Vec2>& scratch, WallSampleLoads& loads);
+void add_pressure_sample_reactions(const ParticleSet& particles, const WallSampleList& samples,
+                                   const OperatorRadius& radius, const std::vector<double>& minimum_pressure, bool cmps,
+                                   double density, const Vec2& gravity, double particle_mass,
+                                   std::vector<Vec2>& scratch, WallSampleLoads& loads);
 
 }  // namespace mps_lab::mps

@@ -144,14 +144,11 @@ void cmps_pressure_acceleration(const ParticleSet& particles, const NeighbourLis
   neighbourhood_minimum(particles, neighbours, samples, radius, carries_pressure, density, gravity, min_includes_self,
                         minimum_pressure);
   const double coefficient = kDimension / radius.n0;
-  const double r_min2 = radius.r_min * radius.r_min;
   const auto n = static_cast<std::ptrdiff_t>(particles.size());
 #pragma omp parallel for schedule(static)
   for (std::ptrdiff_t i = 0; i < n; ++i) {
     acceleration[i] = Vec2::Zero();
     if (particles.type[i] != ParticleType::Fluid) continue;
-    const Vec2 xi = particles.position[i];
-    const double p_i = particles.pressure[i];
     const double p_hat_i = minimum_pressure[i];
     Vec2 gradient = Vec2::Zero();  // Pa/m
     for_each_neighbour(neighbours, i, [&](std::uint32_t j) {
@@ -159,12 +156,7 @@ void cmps_pressure_acceleration(const ParticleSet& particles, const NeighbourLis
       gradient += cmps_gradient_pair(particles, i, j, minimum_pressure, radius);  // Khayyer & Gotoh (2008)
     });
     for_each_neighbour(samples, i, [&](const WallSample& wall) {
-      const Vec2 r_iw = wall.position - xi;
-      const double r = r_iw.norm();
-      const double w = mps_weight(r, radius.re, radius.r_min);
-      if (w == 0.0) return;
-      const double p_w = sample_pressure(wall, particles.pressure, particles.position, density, gravity);
-      gradient += wall.volume * ((p_i + p_w) - 2.0 * p_hat_i) / std::max(r * r, r_min2) * w * r_iw;
+      gradient += cmps_gradient_sample_pair(particles, i, wall, p_hat_i, radius, density, gravity);
     });
     acceleration[i] = -(coefficient / density) * gradient;
   }

@@ -88,6 +88,8 @@ class WcsphMethod final : public Method {
     mass_ = eos_.rest_density * l0 * l0;
     // Loads on obstacles (MethodInfo::obstacle_loads): the reaction on wall particles, when there are both.
     computes_reactions_ = !scene_.walls.obstacles.empty() && walls_.wall_particles();
+    // ... and on each obstacle's wall samples (MethodInfo::sample_obstacle_loads).
+    computes_sample_loads_ = !scene_.walls.obstacles.empty() && !walls_.wall_particles();
     diffusion_ = density_diffusion_from_name(p.string("density_diffusion"));
     delta_ = p.number("delta");
     viscosity_.model = p.string("viscosity") == "laminar" ? Viscosity::Laminar : Viscosity::Artificial;
@@ -202,6 +204,10 @@ class WcsphMethod final : public Method {
   // Loads on obstacles (core/walls/obstacle_loads.hpp): the fluid's force on each wall particle
   // in the last step, N/m; null without obstacles or without wall particles (Method::wall_reactions).
   const std::vector<Vec2>* wall_reactions() const override { return computes_reactions_ ? &reaction_ : nullptr; }
+  // The same on each obstacle's wall samples (core/walls/wall_sample_reactions.hpp).
+  const WallSampleLoads* wall_sample_loads() const override {
+    return computes_sample_loads_ ? &sample_loads_ : nullptr;
+  }
 
   // Cell-ordered particles (core/search/cell_order.hpp): what save_state keeps per particle.
   void permute_state(const ParticleOrder& order) override {
@@ -318,6 +324,10 @@ class WcsphMethod final : public Method {
       reaction_.assign(particles.size(), Vec2::Zero());
       add_momentum_wall_reactions(state, viscosity_, reaction_);
     }
+    if (computes_sample_loads_) {  // the same on the wall samples
+      sample_loads_.reset(scene_.walls.obstacles.size());
+      add_momentum_sample_reactions(state, viscosity_, sample_scratch_, sample_loads_);
+    }
   }
 
   // The second kick, the end-of-step pressures (fluid by Tait, walls by Adami), the hook after
@@ -397,7 +407,10 @@ class WcsphMethod final : public Method {
   WallSampleList samples_;          // of the boundary model, at the positions of the last search
   std::vector<Vec2> acceleration_;  // a of the last evaluation, m/s^2
   bool computes_reactions_ = false;
-  std::vector<Vec2> reaction_;             // the fluid's force on each wall particle at the last evaluation, N/m
+  std::vector<Vec2> reaction_;  // the fluid's force on each wall particle at the last evaluation, N/m
+  bool computes_sample_loads_ = false;
+  WallSampleLoads sample_loads_;           // the fluid's force on each obstacle's wall samples, last evaluation
+  std::vector<Vec2> sample_scratch_;       // per sample, N/m (core/walls/wall_sample_reactions.hpp)
   std::vector<double> density_rate_;       // D rho / Dt of the last evaluation, delta-term included, kg/(m^3 s)
   std::vector<double> diffusion_rate_;     // the delta-term alone, kg/(m^3 s)
   std::vector<Vec2> density_gradient_;     // <grad rho>^L, kg/m^4
@@ -460,7 +473,8 @@ void mps_lab_register_method_wcsph(mps_lab::MethodRegistry& registry) {
   // sum over fluid alone with every boundary model): dummy_layers, mirror_particles, distance_function.
   info.wall_samples = true;
   info.wall_particle_models = {WallParticlePressure::AdamiExtrapolated};  // adami_wall_particles
-  info.obstacle_loads = true;  // the reaction of its momentum pairs with wall particles (docs/walls.md)
+  info.obstacle_loads = true;         // the reaction of its momentum pairs with wall particles (docs/walls.md)
+  info.sample_obstacle_loads = true;  // ... and with wall samples
   info.wall_hooks = wcsph::kWallHooks;
   const auto time_step_specs = time_step_parameters(
       {"cfl", 0.25, 1.0e-7, 1.0e-3, "0.25: a factor 3 below the largest stable 0.8 (docs/methods/wcsph.md)",

@@ -29,6 +29,14 @@ SampleState sample_state(const FluidState& state, const WallSample& wall) {
   if (state.clamp_negative_wall_pressure) p = std::max(p, 0.0);
   return {p, state.eos.density(p)};
 }
+
+// A wall sample's MomentumPair term for fluid i (mass m V_w, its pressure and density), m/s^2. Shared by
+// momentum() and add_momentum_sample_reactions.
+Vec2 sample_pair(const MomentumPair& pair, const FluidState& state, std::size_t i, const WallSample& wall) {
+  const SampleState sample = sample_state(state, wall);
+  return pair(state.particles.position[i] - wall.position, sample.pressure, sample.density,
+              sample_velocity(wall, state.velocity), state.mass * wall.volume);
+}
 }  // namespace
 
 double TaitEquation::pressure(double density) const {
@@ -149,9 +157,7 @@ void momentum(const FluidState& state, const ViscositySettings& viscosity, std::
     });
     for_each_neighbour(state.samples, i, [&](const WallSample& wall) {
       if (particles.type[wall.source] == ParticleType::Ghost) return;
-      const SampleState sample = sample_state(state, wall);
-      sum += pair(particles.position[i] - wall.position, sample.pressure, sample.density,
-                  sample_velocity(wall, state.velocity), state.mass * wall.volume);
+      sum += sample_pair(pair, state, static_cast<std::size_t>(i), wall);
     });
     acceleration[i] = sum;
   });
@@ -183,6 +189,20 @@ double viscous_time_step(double smoothing_length, double kinematic_viscosity) {
 double force_time_step(double smoothing_length, double max_acceleration) {
   if (max_acceleration <= 0.0) return std::numeric_limits<double>::infinity();
   return 0.25 * std::sqrt(smoothing_length / max_acceleration);  // Monaghan (1992)
+}
+
+void add_momentum_sample_reactions(const FluidState& state, const ViscositySettings& viscosity,
+                                   std::vector<Vec2>& scratch, WallSampleLoads& loads) {
+  const ParticleSet& particles = state.particles;
+  // The force on fluid i from sample w: m times w's MomentumPair term in momentum().
+  add_wall_sample_reactions(
+      particles, state.samples,
+      [&](std::size_t i, std::uint32_t, const WallSample& wall) -> Vec2 {
+        if (particles.type[wall.source] == ParticleType::Ghost) return Vec2::Zero();
+        const MomentumPair pair{state, viscosity, state.pressure[i], state.density[i], state.velocity[i]};
+        return state.mass * sample_pair(pair, state, i, wall);
+      },
+      scratch, loads);
 }
 
 }  // namespace mps_lab::wcsph

@@ -27,6 +27,7 @@
 #include "core/base/particles.hpp"
 #include "core/kernels/sph_kernels.hpp"
 #include "core/search/neighbour_search.hpp"
+#include "core/walls/wall_sample_reactions.hpp"
 #include "core/walls/wall_samples.hpp"
 
 namespace mps_lab::wcsph {
@@ -155,6 +156,11 @@ void momentum(const FluidState& state, const ViscositySettings& viscosity, std::
 // j's MomentumPair term for i (pressure and viscosity); adds to `reaction`, N/m.
 void add_momentum_wall_reactions(const FluidState& state, const ViscositySettings& viscosity,
                                  std::vector<Vec2>& reaction);
+// The same on wall samples (core/walls/wall_sample_reactions.hpp): adds to `loads` minus m times each
+// sample's MomentumPair term in momentum() (its pressure clamped and its Tait density as there), per
+// obstacle; `scratch` is reused storage.
+void add_momentum_sample_reactions(const FluidState& state, const ViscositySettings& viscosity,
+                                   std::vector<Vec2>& scratch, WallSampleLoads& loads);
 
 // The time-step limits, s (docs/methods/wcsph.md, "Time step"):
 //   acoustic (CFL):  C l0 / (c0 + v_max)                              (Monaghan 1992)

@@ -1,0 +1,33 @@
+#pragma once
+// The pressure on a wall point from the fluid next to it, the same for every method and boundary
+// model: the wall-pressure transducers (core/run/pressure_sensors.hpp) and the surface load on
+// obstacles without wall particles (core/walls/surface_pressure_loads.hpp) both read it.
+//
+// Adami, Hu & Adams (2012), J. Comput. Phys. 231, 7057-7075, eq. 27, at a wall point x_w:
+//   p_w = [ sum_f p_f W_wf + (g - a_w) . sum_f rho_f r_wf W_wf ] / sum_f W_wf,   r_wf = x_w - x_f,
+// over the fluid particles f within the kernel's support of x_w (rho_f the reference density: the
+// methods here are incompressible), a_w the wall's acceleration. No fluid in reach: dry, 0.
+#include "core/base/types.hpp"
+
+namespace mps_lab {
+
+// The sums of eq. 27 over the fluid particles near one wall point.
+struct ExtrapolatedPressure {
+  double weights = 0.0;                 // sum_f W_wf, 1/m^2
+  double weighted_pressure = 0.0;       // sum_f p_f W_wf, Pa/m^2
+  Vec2 weighted_offset = Vec2::Zero();  // sum_f r_wf W_wf, m/m^2
+
+  // Fluid particle f with pressure p_f (Pa) at r_wf = x_w - x_f (m) and kernel weight w = W(|r_wf|).
+  void add(double pressure, const Vec2& offset, double w) {
+    weights += w;
+    weighted_pressure += pressure * w;
+    weighted_offset += offset * w;
+  }
+  // p_w (Pa) with rho (kg/m^3) and body_force = g - a_w (m/s^2); 0 when dry.
+  double value(double density, const Vec2& body_force) const {
+    if (!(weights > 0.0)) return 0.0;
+    return (weighted_pressure + density * body_force.dot(weighted_offset)) / weights;
+  }
+};
+
+}  // namespace mps_lab
