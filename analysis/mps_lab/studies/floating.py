@@ -40,7 +40,10 @@ HEAVE_FIT_END = 1.0  # s: about the first period; the longest waves the box radi
 #                      1.7 m/s) are back from the tank's sides (0.5 m away) after 0.6 s, the
 #                      wave group (g / (2 omega) = 0.5 m/s) after 2 s, and the tank's first
 #                      symmetric sloshing mode has T = 0.92 s: later swings are not the box's alone
-ADDED_MASS_BAND = (0.6, 1.0)  # a33(omega) / a33(infinity) assumed near omega^2 B/(2g) ~ 0.6 (docs/bodies.md)
+# a33(omega) / a33(infinity) once assumed near omega^2 B/(2g) ~ 0.6: the band of the table's
+# period_estimate_low/high columns, superseded by linear theory in the tank (studies/heave_theory.py,
+# analysis/heave_linear_theory.py; docs/bodies.md "Linear theory").
+ADDED_MASS_BAND = (0.6, 1.0)
 DRAG_COEFFICIENT = 2.0  # square cylinder broadside, Re 1e4-1e5 (Delany & Sorensen 1953; Hoerner 1965)
 SPEED_WINDOW = 0.05  # s: running mean of the body's vertical speed
 HEAVE_COLUMNS = ["method", "l0", "status", "draft_theory", "rest_level", "release_offset", "draft", "draft_error", "period", "damping_ratio",
