@@ -115,10 +115,11 @@ namespace {
 //     0.25 %; the plate 4-13 % low (the top row of particles, at the free surface, carries less than
 //     the continuum: with h = 0.2625 m, to the particle centres, rho g h^2 / 2 is 0.91 of it).
 //   dfsph (Akinci): the plate within 2 %, the small submerged box 25 % low.
-//   mps (spec; obstacle_load wall_pressure, the default): the surface wall particles' pressure over
-//     the surface: 0.85 of the buoyancy, 0.94 of the plate's thrust (tests/test_mps_surface_loads.cpp;
-//     the reaction of the spec's wall pairs, obstacle_load pair_reaction, carries 0.11 and 0.43:
-//     the spec's gradient (P_j - P_min,i) is not antisymmetric, tests/test_mps_loads.cpp).
+//   mps (spec; obstacle_load fluid_pressure, the default): the fluid's pressure carried to the surface:
+//     1.04 of the buoyancy, 0.99 of the plate's thrust (tests/test_mps_surface_loads.cpp; its wall
+//     particles' pressure, wall_pressure, 0.85 and 0.94; the reaction of the spec's wall pairs,
+//     pair_reaction, 0.11 and 0.43: the spec's gradient (P_j - P_min,i) is not antisymmetric,
+//     tests/test_mps_loads.cpp).
 // With the boundary models of wall samples (the reaction of each method's sample pairs; for mps the
 // fluid's pressure carried to the surface, core/walls/surface_pressure_loads.hpp):
 //   dummy_layers: the loads of the wall particles it stands for (isph and dfsph to 4 digits).
@@ -138,7 +139,7 @@ struct Expected {
 constexpr Expected kMeasured[] = {{"dfsph x akinci_boundary", 0.7523, 0.9808, 0.9881},
                                   {"eisph x adami_wall_particles", 0.9977, 0.8952, 0.8936},
                                   {"isph x adami_wall_particles", 1.0009, 0.8746, 0.8784},
-                                  {"mps x spec_wall_particles", 0.8500, 0.9372, 0.9243},
+                                  {"mps x spec_wall_particles", 1.0377, 0.9947, 1.0002},
                                   {"wcsph x adami_wall_particles", 1.0004, 0.9552, 0.9249},
                                   // Wall samples (core/walls/wall_sample_reactions.hpp):
                                   {"dfsph x dummy_layers", 0.7523, 0.9808, 0.9881},

@@ -6,6 +6,7 @@
 
 #include <catch2/catch.hpp>
 
+#include "core/bodies/rigid_bodies.hpp"
 #include "core/io/geometry.hpp"
 #include "core/run/method.hpp"
 #include "core/run/stability.hpp"
@@ -168,4 +169,22 @@ TEST_CASE("bad stability settings are input errors naming the key", "[monitor]")
   CHECK_THROWS_WITH(dambreak({"stability.on_divergence=halt"}), Catch::Contains("stability.on_divergence"));
   CHECK_THROWS_WITH(dambreak({"stability.courant_limit=0"}), Catch::Contains("stability.courant_limit"));
   CHECK_THROWS_WITH(dambreak({"stability.max_escape=0.1"}), Catch::Contains("stability.max_escape"));
+}
+
+TEST_CASE("stability monitor: the rigid bodies' mechanical energy is part of the energy it watches",
+          "[stability][bodies]") {
+  // scenes/disc_on_slope.json's disc (no fluid) at rest where the scene puts it: its energy is its
+  // potential energy above the domain's lowest corner, m g (y_c - y_min) (g = (0, -9.81) m/s^2), and
+  // the monitor's E0 is that plus the fluid's (none). A body's energy then enters every check: a
+  // body that sinks gives its potential energy to the water (docs/stability.md, "energy_growth").
+  const Scene scene = load("disc_on_slope.json");
+  const RigidBodies bodies(scene);
+  REQUIRE(bodies.size() == 1);
+  const double m = bodies.mass(0).mass, y = bodies.state(0).position.y();
+  const double expected = m * 9.81 * (y - scene.domain.min.y());
+  CHECK(bodies_mechanical_energy(bodies, scene) == Approx(expected).epsilon(1e-12));
+  const ParticleSet particles = build_particles(scene, true);
+  StabilityMonitor monitor(scene, scene.stability);
+  monitor.start(particles, bodies_mechanical_energy(bodies, scene));
+  CHECK(monitor.state().initial_energy == Approx(mechanical_energy(particles, scene) + expected).epsilon(1e-12));
 }

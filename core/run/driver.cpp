@@ -136,7 +136,7 @@ Simulation::Simulation(const Scene& scene, const MethodInfo& info, PressureSyste
       MethodSetup{scene, config.parameters, config.wall_treatments, &timers_, std::move(pressure_system_observer)});
   check_all_read(config.parameters, "method '" + info.name + "'");
   method_->initialise(particles_);
-  monitor_.start(particles_);
+  monitor_.start(particles_, bodies_mechanical_energy(bodies_, scene_));
   timers_.reset();  // initialise() may have timed phases: they count as setup
   timers_.add(timers_.phase("setup"),
               std::chrono::duration<double>(PhaseTimers::Clock::now() - setup_started_).count());
@@ -197,16 +197,22 @@ const StepReport& Simulation::advance() {
   total_iterations_ += report_.solver_iterations;
   max_iterations_ = std::max(max_iterations_, report_.solver_iterations);
   const auto timed = timers_.measure(diagnostics_phase_);
-  monitor_.check_step(particles_, report_, steps_, time_, dt);  // throws RunStopped
+  monitor_.check_step(particles_, report_, steps_, time_, dt,
+                      bodies_mechanical_energy(bodies_, scene_));  // throws RunStopped
   sensors_.sample(particles_, dt);
   return report_;
 }
 
-// The loads on the obstacles of the step that ends at t (s): from the method's reaction on wall
-// particles, or with a boundary model of wall samples (sum_wall_sample_loads).
+// The loads on the obstacles of the step that ends at t (s): the fluid's pressure over their surface
+// (a load of kind FluidPressure), or the method's reaction on wall particles, or with a boundary
+// model of wall samples on the samples (sum_wall_sample_loads).
 void Simulation::sum_loads(double t) {
   if (!reports_loads_) return;
-  if (wall_particles_) {
+  if (method_->obstacle_load_kind() == ObstacleLoadKind::FluidPressure) {
+    start_obstacle_loads(scene_, t, loads_);
+    if (!surface_loads_) surface_loads_ = std::make_unique<SurfacePressureLoads>(scene_);
+    surface_loads_->add(particles_, loads_);
+  } else if (wall_particles_) {
     const std::vector<Vec2>* reaction = method_->wall_reactions();
     if (reaction == nullptr || reaction->size() != particles_.size()) {
       throw std::logic_error("method '" + info_.name + "' declares obstacle_loads but reported no reaction on its " +
@@ -229,13 +235,8 @@ void Simulation::sum_loads(double t) {
 }
 
 // With a boundary model of wall samples (MethodInfo::sample_obstacle_loads): the method's reaction on
-// each sample, or, for a method whose load is its wall's pressure, that pressure over the surface.
+// each obstacle's samples.
 void Simulation::sum_wall_sample_loads() {
-  if (method_->obstacle_load_kind() == ObstacleLoadKind::SurfacePressure) {
-    if (!surface_loads_) surface_loads_ = std::make_unique<SurfacePressureLoads>(scene_);
-    surface_loads_->add(particles_, loads_);
-    return;
-  }
   const WallSampleLoads* sample_loads = method_->wall_sample_loads();
   if (sample_loads == nullptr || sample_loads->force.size() != loads_.size()) {
     throw std::logic_error("method '" + info_.name + "' declares sample_obstacle_loads but reported no load on the " +

@@ -100,8 +100,8 @@ class Simulation {
   std::vector<std::int32_t> obstacle_of_id_;  // per particle id (core/walls/obstacle_membership.hpp)
   bool reports_loads_ = false;
   bool wall_particles_ = true;  // the boundary model is made of wall particles (else of wall samples)
-  // The wall's pressure over the obstacles' surface, for a method whose load is SurfacePressure with a
-  // boundary model of wall samples (made at the first step that needs it).
+  // The fluid's pressure over the obstacles' surface, for a method whose load is FluidPressure (made at
+  // the first step that needs it).
   std::unique_ptr<SurfacePressureLoads> surface_loads_;
   // The fluid's load on each obstacle in the last step (core/walls/obstacle_loads.hpp); it moves
   // the bodies (advance()).

@@ -54,8 +54,15 @@ struct StepReport {
   std::vector<double> extra;
 };
 
-// What a method's load on obstacles is (Method::obstacle_load_kind).
-enum class ObstacleLoadKind { PairReaction, SurfacePressure };
+// What a method's load on obstacles is (Method::obstacle_load_kind):
+//   PairReaction     the reaction of its wall pair terms (on wall particles or wall samples): the
+//                    fluid receives exactly the opposite, to rounding;
+//   SurfacePressure  its wall particles' pressure over the wetted surface they stand for (the
+//                    method computes it: Method::wall_reactions);
+//   FluidPressure    the fluid's own pressure carried to the obstacles' surface (Adami et al. 2012
+//                    eq. 27) and integrated over it by the driver, with any boundary model
+//                    (core/walls/surface_pressure_loads.hpp); pressure only, no shear.
+enum class ObstacleLoadKind { PairReaction, SurfacePressure, FluidPressure };
 
 class Method {
  public:
@@ -93,14 +100,13 @@ class Method {
   virtual const std::vector<Vec2>* wall_reactions() const { return nullptr; }
   // The same with a boundary model of wall samples (MethodInfo::sample_obstacle_loads): the reaction
   // of the last step's wall terms on each obstacle's samples (core/walls/wall_sample_reactions.hpp),
-  // where the method's load is its pair terms' reaction (obstacle_load_kind() PairReaction). A method
-  // whose load is its wall's pressure (SurfacePressure) returns null: the driver integrates the wall's
-  // pressure over the obstacles' surface for it (core/walls/surface_pressure_loads.hpp).
+  // where the method's load is its pair terms' reaction (obstacle_load_kind() PairReaction). With a
+  // load of kind FluidPressure neither is needed (null): the driver integrates the fluid's pressure
+  // over the obstacles' surface (core/walls/surface_pressure_loads.hpp).
   virtual const WallSampleLoads* wall_sample_loads() const { return nullptr; }
-  // What wall_reactions() holds: the reaction of the fluid's wall pair terms (PairReaction: the
-  // fluid receives exactly the opposite, to rounding), or the integral of the wall's pressure over
-  // the obstacles' wetted surface (SurfacePressure: the pressure's part is not the exact opposite
-  // of the fluid's wall terms; docs/walls.md, "Loads on obstacles").
+  // What the load is (ObstacleLoadKind above; docs/walls.md, "Loads on obstacles"): PairReaction,
+  // SurfacePressure (wall_reactions() holds the wall particles' pressure over the surface, not the
+  // exact opposite of the fluid's wall terms) or FluidPressure (the driver's integral).
   virtual ObstacleLoadKind obstacle_load_kind() const { return ObstacleLoadKind::PairReaction; }
   // The heap the method holds between steps, by structure (core/base/memory_bytes.hpp: the
   // capacity of its big containers): `mps_lab bench` reports it beside the resident memory.
@@ -148,9 +154,9 @@ struct MethodInfo {
   // the load on every obstacle (core/walls/obstacle_loads.hpp) and writes it to series.csv.
   bool obstacle_loads = false;
   // True when, with every boundary model of wall samples, its step computes the fluid's reaction on
-  // each obstacle's samples (Method::wall_sample_loads) or its load is its wall's pressure, which the driver
-  // integrates over the surface (Method::obstacle_load_kind SurfacePressure): the loads on obstacles
-  // are then reported with those models too, and bodies move under them (docs/walls.md).
+  // each obstacle's samples (Method::wall_sample_loads) or its load there is the fluid's pressure,
+  // which the driver integrates over the surface (obstacle_load_kind FluidPressure): the loads on
+  // obstacles are then reported with those models too, and bodies move under them (docs/walls.md).
   bool sample_obstacle_loads = false;
   std::function<std::unique_ptr<Method>(const MethodSetup&)> create;
 };

@@ -6,6 +6,7 @@
 #include <limits>
 
 #include "core/base/parallel.hpp"
+#include "core/bodies/rigid_bodies.hpp"
 #include "core/io/scene.hpp"
 #include "core/run/diagnostics.hpp"
 #include "core/run/method.hpp"
@@ -104,6 +105,21 @@ double mechanical_energy(const ParticleSet& particles, const Scene& scene) {
   });
 }
 
+double bodies_mechanical_energy(const RigidBodies& bodies, const Scene& scene) {
+  const Vec2& g = scene.physics.gravity;
+  const Vec2 low(g.x() > 0.0 ? scene.domain.max.x() : scene.domain.min.x(),
+                 g.y() > 0.0 ? scene.domain.max.y() : scene.domain.min.y());  // as mechanical_energy
+  double energy = 0.0;
+  for (std::size_t b = 0; b < bodies.size(); ++b) {
+    const MassProperties& mass = bodies.mass(b);
+    const BodyState& state = bodies.state(b);
+    energy += 0.5 * mass.mass * state.velocity.squaredNorm() +
+              0.5 * mass.inertia * state.angular_velocity * state.angular_velocity -
+              mass.mass * g.dot(state.position - low);
+  }
+  return energy;
+}
+
 double stability_energy_scale(double initial_energy, double fluid_mass, double particle_spacing, double time_step) {
   const double reference_speed = 0.01 * particle_spacing / time_step;  // m/s
   return initial_energy + 0.5 * fluid_mass * reference_speed * reference_speed;
@@ -123,7 +139,7 @@ StabilityMonitor::StabilityMonitor(const Scene& scene, StabilitySettings setting
   state_.counts.assign(stability_event_kinds().size(), 0);
 }
 
-void StabilityMonitor::start(const ParticleSet& particles) {
+void StabilityMonitor::start(const ParticleSet& particles, double body_energy) {
   state_.initial_fluid = 0;
   state_.ghosts = 0;
   for (const ParticleType type : particles.type) {
@@ -132,7 +148,7 @@ void StabilityMonitor::start(const ParticleSet& particles) {
   }
   const double l0 = scene_.particle_spacing;
   const double fluid_mass = scene_.physics.density * l0 * l0 * static_cast<double>(state_.initial_fluid);
-  state_.initial_energy = mechanical_energy(particles, scene_);
+  state_.initial_energy = mechanical_energy(particles, scene_) + body_energy;
   state_.last_energy = state_.initial_energy;
   state_.energy_scale = stability_energy_scale(state_.initial_energy, fluid_mass, l0, scene_.time.time_step);
   state_.min_wall_distance = std::numeric_limits<double>::infinity();  // no wall at all: stays infinite
@@ -195,9 +211,9 @@ StabilityMonitor::ParticleScan StabilityMonitor::scan_particles(const ParticleSe
 }
 
 // Energy from nowhere: (E - E0) / E_scale beyond the limit.
-void StabilityMonitor::check_energy(const ParticleSet& particles, long long step, double time) {
+void StabilityMonitor::check_energy(const ParticleSet& particles, double body_energy, long long step, double time) {
   const bool stop_divergence = settings_.stop_on_divergence;
-  state_.last_energy = mechanical_energy(particles, scene_);
+  state_.last_energy = mechanical_energy(particles, scene_) + body_energy;
   const double growth = (state_.last_energy - state_.initial_energy) / state_.energy_scale;
   if (growth > settings_.energy_growth_limit) {
     const std::string reason =
@@ -314,7 +330,7 @@ void StabilityMonitor::check_density_and_solver(const ParticleSet& particles, co
 }
 
 void StabilityMonitor::check_step(const ParticleSet& particles, const StepReport& report, long long step, double time,
-                                  double dt) {
+                                  double dt, double body_energy) {
   const ParticleScan scan = scan_particles(particles);
   if (scan.first_non_finite >= 0) {
     const std::string reason =
@@ -324,7 +340,7 @@ void StabilityMonitor::check_step(const ParticleSet& particles, const StepReport
   }
   state_.min_wall_distance = scan.min_wall_distance;
   check_speed(report, scan.max_speed2, step, time, dt);
-  check_energy(particles, step, time);
+  check_energy(particles, body_energy, step, time);
   check_ghosts(particles, scan.ghosts, step, time);
   check_penetrations(scan.beyond_walls, step, time);
   check_density_and_solver(particles, report, step, time);

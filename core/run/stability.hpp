@@ -38,6 +38,8 @@
 
 namespace mps_lab {
 
+class RigidBodies;
+
 struct FlowWorkspace;
 
 class WallGeometry;
@@ -106,6 +108,10 @@ const std::vector<std::string>& stability_event_kinds();
 // Mechanical energy per metre of depth: sum over fluid of 1/2 m |u|^2 + m g_hat.(x - x_low)
 // with potential measured from the domain corner lowest in the gravity field, J/m.
 double mechanical_energy(const ParticleSet& particles, const Scene& scene);
+// The rigid bodies' part of it (J/m): sum of 1/2 m |u|^2 + 1/2 I omega^2 - m g.(x_c - x_low), with the
+// fluid's reference corner x_low: a body that sinks hands its potential energy to the water, which is
+// no energy from nowhere (docs/stability.md).
+double bodies_mechanical_energy(const RigidBodies& bodies, const Scene& scene);
 
 // E_scale = E0 + 1/2 M u_ref^2 with u_ref = 0.01 l0 / dt: the initial energy plus, for a
 // scene without any (zero gravity, fluid at rest), the kinetic energy of the whole fluid
@@ -116,11 +122,13 @@ class StabilityMonitor {
  public:
   StabilityMonitor(const Scene& scene, StabilitySettings settings);
 
-  // Records the state at t = 0.
-  void start(const ParticleSet& particles);
+  // Records the state at t = 0. `body_energy`: the rigid bodies' mechanical energy (J/m,
+  // bodies_mechanical_energy), part of the energy the monitor watches.
+  void start(const ParticleSet& particles, double body_energy = 0.0);
   // Checks the state after a step; records events; throws RunStopped when the settings say
   // stop (always for a non-finite state).
-  void check_step(const ParticleSet& particles, const StepReport& report, long long step, double time, double dt);
+  void check_step(const ParticleSet& particles, const StepReport& report, long long step, double time, double dt,
+                  double body_energy = 0.0);
 
   // Called when a method's step threw: if the state has blown up (a non-finite value, or a
   // fluid particle more than 1e6 domain sizes away), records it and throws RunStopped
@@ -145,7 +153,7 @@ class StabilityMonitor {
   };
   ParticleScan scan_particles(const ParticleSet& particles) const;
   void check_speed(const StepReport& report, double max_speed2, long long step, double time, double dt);
-  void check_energy(const ParticleSet& particles, long long step, double time);
+  void check_energy(const ParticleSet& particles, double body_energy, long long step, double time);
   void check_ghosts(const ParticleSet& particles, std::size_t ghosts, long long step, double time);
   void check_penetrations(std::size_t beyond_walls, long long step, double time);
   void check_density_and_solver(const ParticleSet& particles, const StepReport& report, long long step, double time);

@@ -78,12 +78,16 @@ class MpsMethod final : public Method {
     settings_.clamp_negative = p.boolean("clamp_negative_pressure");
     read_schemes(p);
     // Loads on obstacles (MethodInfo::obstacle_loads): the reaction on wall particles, when there are both.
-    computes_reactions_ = !scene_.walls.obstacles.empty() && walls_.wall_particles();
-    surface_loads_ = p.string("obstacle_load") == "wall_pressure";
-    // With a boundary model of wall samples (MethodInfo::sample_obstacle_loads): the reaction of the
-    // sample pairs (pair_reaction), or, for wall_pressure, none here: the driver integrates the wall's
-    // pressure over the surface (core/walls/surface_pressure_loads.hpp).
-    computes_sample_loads_ = !scene_.walls.obstacles.empty() && !walls_.wall_particles() && !surface_loads_;
+    // obstacle_load: wall_pressure (the wall particles' pressure over the surface; with wall samples,
+    // which have no pressure of their own, the fluid's), pair_reaction, or fluid_pressure (the
+    // fluid's pressure carried to the surface, integrated by the driver: core/walls/
+    // surface_pressure_loads.hpp, with any boundary model).
+    const std::string load = p.string("obstacle_load");
+    fluid_pressure_load_ = load == "fluid_pressure" || (load == "wall_pressure" && !walls_.wall_particles());
+    surface_loads_ = load == "wall_pressure" && walls_.wall_particles();
+    const bool obstacles = !scene_.walls.obstacles.empty();
+    computes_reactions_ = obstacles && walls_.wall_particles() && !fluid_pressure_load_;
+    computes_sample_loads_ = obstacles && !walls_.wall_particles() && !fluid_pressure_load_;
     particle_mass_ = scene_.physics.density * l0 * l0;
   }
 
@@ -183,8 +187,10 @@ class MpsMethod final : public Method {
   const WallSampleLoads* wall_sample_loads() const override {
     return computes_sample_loads_ ? &sample_loads_ : nullptr;
   }
-  // obstacle_load wall_pressure: the surface integral of the wall's pressure; pair_reaction: the wall pairs'.
+  // obstacle_load wall_pressure: the surface integral of the wall particles' pressure (or, with wall
+  // samples, of the fluid's); pair_reaction: the wall pairs'; fluid_pressure: the fluid's pressure.
   ObstacleLoadKind obstacle_load_kind() const override {
+    if (fluid_pressure_load_) return ObstacleLoadKind::FluidPressure;
     return surface_loads_ ? ObstacleLoadKind::SurfacePressure : ObstacleLoadKind::PairReaction;
   }
 
@@ -437,11 +443,12 @@ class MpsMethod final : public Method {
   std::vector<char> carries_pressure_;
   std::vector<Vec2> acceleration_;  // m/s^2
   bool computes_reactions_ = false;
-  bool surface_loads_ = true;   // obstacle_load wall_pressure
-  std::vector<char> wetted_;    // wall particles with a fluid neighbour within re (wall_pressure loads)
-  ObstacleSurface surface_;     // the obstacles' surface wall particles (wall_pressure)
-  double particle_mass_ = 0.0;  // rho l0^2, kg/m
-  std::vector<Vec2> reaction_;  // the fluid's force on each wall particle in this step, N/m
+  bool surface_loads_ = true;         // obstacle_load wall_pressure with wall particles
+  bool fluid_pressure_load_ = false;  // the driver's integral of the fluid's pressure (FluidPressure)
+  std::vector<char> wetted_;          // wall particles with a fluid neighbour within re (wall_pressure loads)
+  ObstacleSurface surface_;           // the obstacles' surface wall particles (wall_pressure)
+  double particle_mass_ = 0.0;        // rho l0^2, kg/m
+  std::vector<Vec2> reaction_;        // the fluid's force on each wall particle in this step, N/m
   bool computes_sample_loads_ = false;
   WallSampleLoads sample_loads_;      // the fluid's force on each obstacle's wall samples in this step
   std::vector<Vec2> sample_scratch_;  // per sample, N/m (core/walls/wall_sample_reactions.hpp)
@@ -515,11 +522,13 @@ void mps_lab_register_method_mps(mps_lab::MethodRegistry& registry) {
       boolean_parameter("warm_start", true, "start CG from the previous step's pressure"),
       boolean_parameter("min_pressure_includes_self", true, "P_min of the gradient includes particle i (K&O 1996)"),
       boolean_parameter("clamp_negative_pressure", true, "set P < 0 to 0 after the solve (spec §5.2-7)"),
-      string_parameter("obstacle_load", "wall_pressure",
+      string_parameter("obstacle_load", "fluid_pressure",
                        "the fluid's load on obstacles: wall_pressure (the surface wall particles' pressure times "
-                       "their normal and surface, methods/mps/mps_loads.hpp) or pair_reaction (minus the wall pair "
-                       "terms of spec §2); drives bodies only, the fluid's dynamics are the same")
-          .one_of({"wall_pressure", "pair_reaction"}),
+                       "their normal and surface, methods/mps/mps_loads.hpp; with wall samples the fluid's "
+                       "pressure), pair_reaction (minus the wall pair terms of spec §2) or fluid_pressure (the "
+                       "fluid's pressure carried to the surface, core/walls/surface_pressure_loads.hpp); drives "
+                       "bodies only, the fluid's dynamics are the same")
+          .one_of({"wall_pressure", "pair_reaction", "fluid_pressure"}),
   };
   info.fields = {{"number_density", "", "n* at the provisional positions (spec §5.2-4)", true},
                  {"free_surface", "", "1 where n*/n0 < free_surface_threshold (P = 0)", true}};
