@@ -7,6 +7,7 @@ exact and a scaled pressure field). Run by CTest; MPS_LAB_BINARY names build/mps
 from __future__ import annotations
 
 import csv
+import json
 import math
 import os
 import shutil
@@ -153,6 +154,22 @@ class WallStudyTest(unittest.TestCase):
         frame = lattice_frame()
         frame["pressure"][fluid & (frame["y"] < 0.03)] *= 1.2  # only the bottom row counts in the ratio
         self.assertAlmostEqual(wall_study.hydrostatic_frame(frame, RHO, G)[0], 1.2, places=12)
+
+    def test_level_at_rest_from_the_particle_count(self):
+        # The flat tank of scenes/hydrostatic.json: 19 x 11 particles between wall surfaces 0.475 m
+        # apart fill 0.275 m above the bed's surface 0.0125 m: the lattice's top + l0/2, 0.2875 m.
+        with open(os.path.join(ROOT, "scenes", "hydrostatic.json")) as handle:
+            flat = json.load(handle)
+        self.assertAlmostEqual(wall_study.rest_level(flat, 19 * 11), 0.2875, places=9)
+        # The wedge of scenes/hydrostatic_slope.json (a triangle 0.3375 x 0.157379 m): above its top the
+        # water's area is 0.475 (eta - 0.0125) - 0.026558 m^2; N = 159 gives eta = 0.27762 m, not the
+        # lattice's 0.2875 m (tests/test_wall_polygons.cpp measures the same 0.2776 m).
+        with open(os.path.join(ROOT, "scenes", "hydrostatic_slope.json")) as handle:
+            slope = json.load(handle)
+        wedge = 0.5 * 0.3375 * (0.169879 - 0.0125)
+        expected = 0.0125 + (159 * 0.025 ** 2 + wedge) / 0.475
+        self.assertAlmostEqual(wall_study.rest_level(slope, 159), expected, places=7)
+        self.assertAlmostEqual(expected, 0.27762, places=5)
 
     def test_cases_and_commands(self):
         catalogue = methods.method_catalogue(BINARY)

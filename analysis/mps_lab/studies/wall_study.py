@@ -57,7 +57,8 @@ with an error and no run.json (a combination not supported, a bad key) is record
                                            the gate's without a shift is the one that counts)
   hydrostatic_slope and hydrostatic_box, means over t in [0.5, 1.0] of series.csv's sensor columns:
     sensor_ratios                          "name=ratio ..." per sensor: mean p / (rho g h), h its depth
-                                           below the initial surface (top fluid row + l0/2, frame 0)
+                                           below the water's level at rest (rest_level: from the fluid
+                                           particle count of frame 0 and the tank less the obstacles)
     sensor_ratio_min, sensor_ratio_max     the smallest and largest of them
     hydro_max_speed, max_speed_run         the largest max |u| in the window and over the whole run [m/s]
 --merge CSV adds the rows of an earlier wall_study.csv (e.g. docs/data/wall_study.csv) for the
@@ -290,19 +291,66 @@ def hydrostatic_metrics(run: data.Run, window: tuple[float, float] = HYDRO_WINDO
             "hydro_max_speed": float(run.series["max_speed"][inside].max()) if inside.any() else math.nan}
 
 
+def horizontal_chord(polygon: list, y: float) -> float:
+    """The length of the horizontal line at height y inside a polygon (even-odd crossings), m."""
+    crossings = []
+    for k, a in enumerate(polygon):
+        b = polygon[(k + 1) % len(polygon)]
+        if (a[1] <= y) == (b[1] <= y):
+            continue
+        crossings.append(a[0] + (y - a[1]) / (b[1] - a[1]) * (b[0] - a[0]))
+    crossings.sort()
+    return sum(crossings[k + 1] - crossings[k] for k in range(0, len(crossings) - 1, 2))
+
+
+def rest_level(scene: dict, fluid_particles: int) -> float:
+    """The level at rest of the scene's water, m: N l0^2 fills the tank between its wall surfaces
+    (l0/2 inside the domain) above the bed's surface, less the obstacles (a polygon as drawn, a box
+    grown by l0/2), up to the level (bisection; midpoint rule over 2000 slices). Not the lattice's top
+    + l0/2: against a slope the lattice leaves gaps that the water fills at rest (0.2776 m against
+    0.2875 m in scenes/hydrostatic_slope.json; tests/test_wall_polygons.cpp)."""
+    l0 = float(scene["particle_spacing"])
+    (x0, y0), (x1, y1) = scene["domain"]["min"], scene["domain"]["max"]
+    left, right, bed = x0 + l0 / 2, x1 - l0 / 2, y0 + l0 / 2
+    shapes = []
+    for obstacle in scene.get("walls", {}).get("obstacles", []):
+        if "polygon" in obstacle:
+            shapes.append(obstacle["polygon"])
+        elif "min" in obstacle:
+            (a, b), (c, d) = obstacle["min"], obstacle["max"]
+            h = l0 / 2
+            shapes.append([[a - h, b - h], [c + h, b - h], [c + h, d + h], [a - h, d + h]])
+
+    def area_below(level: float) -> float:
+        dy = (level - bed) / 2000
+        ys = bed + (np.arange(2000) + 0.5) * dy
+        widths = [(right - left) - sum(horizontal_chord(shape, y) for shape in shapes) for y in ys]
+        return float(np.sum(widths) * dy)
+
+    water, low, high = fluid_particles * l0 * l0, bed, y1
+    for _ in range(50):
+        middle = 0.5 * (low + high)
+        low, high = (middle, high) if area_below(middle) < water else (low, middle)
+    return 0.5 * (low + high)
+
+
 def initial_surface(run: data.Run) -> float:
-    """y of the initial free surface, m: the top fluid row of the first frame + l0/2."""
+    """y of the water's level at rest, m: from the first frame's fluid particle count (rest_level) when
+    the resolved scene is in run.json, else the top fluid row of the first frame + l0/2."""
     frames = run.frames()
     if not frames:
         raise ValueError("no frame to find the initial surface in")
     frame = data.read_csv_columns(frames[0][1])
     fluid = frame["type"] == 0
+    scene = run.summary.get("scene_resolved")
+    if scene and "domain" in scene and "particle_spacing" in scene:
+        return rest_level(scene, int(np.count_nonzero(fluid)))
     return float(frame["y"][fluid].max()) + 0.5 * float(run.summary["shared"]["particle_spacing"])
 
 
 def sensor_still_metrics(run: data.Run, window: tuple[float, float] = HYDRO_WINDOW) -> dict:
     """Still water read by the scene's pressure sensors (module docstring): per sensor the mean
-    of its series column over `window` against rho g h, h its depth below the initial surface."""
+    of its series column over `window` against rho g h, h its depth below the level at rest."""
     density = float(run.summary["shared"]["density"])
     surface = initial_surface(run)
     t = run.series["time"]
@@ -436,7 +484,7 @@ def markdown(rows: list[dict], quick: bool = False) -> str:
              "dp/dy: fitted slope over −ρg; noise: RMS of the right-wall sensor pressure minus its "
              "0.05 s moving average on t in [0.3, 2] s; peak: its largest value; front RMS: surge front Z "
              "against Martin & Moyce (completed runs; the gate's unshifted). Sensors p/ρgh (slope, box): each "
-             "pressure sensor's mean over t in [0.5, 1] s over ρ g h, h its depth below the initial surface; "
+             "pressure sensor's mean over t in [0.5, 1] s over ρ g h, h its depth below the level at rest of the particle count; "
              "max |u|: the fastest particle in that window and (after the slash) over the whole run. "
              "unsupported: mps_lab refuses the combination (a moving gate needs a method and a boundary model "
              "that declare moving walls). (d): the method's default boundary model.", ""]
