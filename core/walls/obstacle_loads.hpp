@@ -7,9 +7,10 @@
 //                       fluid particle, of its mass times the acceleration the obstacle's
 //                       wall terms give it (pressure and viscosity), so that the fluid and
 //                       the obstacle exchange equal and opposite forces
-//                       (or, where the method's Method::obstacle_load_kind() is SurfacePressure,
-//                       the integral of its wall's pressure over the obstacle's wetted surface,
-//                       which the fluid's wall terms do not return exactly: docs/walls.md)
+//                       (or, where the method's Method::obstacle_load_kind() is SurfacePressure
+//                       or FluidPressure, the integral of its wall particles' or the fluid's
+//                       pressure over the obstacle's wetted surface, which the fluid's wall terms
+//                       do not return exactly: docs/walls.md)
 //   torque[k]     N     (N m per m width) the moment of those forces about reference[k],
 //                       counter-clockwise positive: sum of (x - reference[k]) x f
 //   reference[k]  m     the obstacle's area centroid where it is at this time (for a rigid

@@ -1,9 +1,9 @@
 #pragma once
-// The load on obstacles as the wall's pressure over their wetted surface, for the boundary models
-// of wall samples (dummy_layers, mirror_particles, distance_function), which have no wall particles
-// whose pressure could be integrated. A method whose load is its wall's pressure
-// (Method::obstacle_load_kind() == SurfacePressure: mps's default, docs/walls.md "Loads on
-// obstacles") gets this one with them:
+// The load on obstacles as the fluid's pressure over their wetted surface, the same for every method
+// and boundary model (wall particles or wall samples). A method whose load is of kind FluidPressure
+// (Method::obstacle_load_kind(): mps's default obstacle_load fluid_pressure, and its wall_pressure
+// with wall samples, which have no pressure of their own; docs/walls.md "Loads on obstacles") gets
+// it from the driver:
 //   F_k = - sum over the surface points x_e of obstacle k of  p_e n_e s_e        (N/m)
 //   T_k =   sum (x_e - c_k) x (-p_e n_e s_e)                                     (N)
 // n_e the outward normal (into the fluid), s_e the length a point stands for (points at most l0/4
@@ -17,7 +17,7 @@
 // against another solid (the point one spacing out along n_e lies inside a solid: a box's foot on
 // the bed) carries nothing.
 //
-// The fluid does not receive -F_k exactly: it receives the method's wall terms with the samples.
+// The fluid does not receive -F_k exactly: it receives the method's wall terms.
 // The check is physical (still water: Archimedes and rho g h^2 / 2; a floating body's mean load
 // equals its weight), not the bits of a pair reaction.
 #include <vector>
