@@ -32,7 +32,8 @@ void still_water_wall_sensors(const std::string& method_name, const std::vector<
     all.push_back(sensors);
     all.push_back("time.end_time=" + std::to_string(end_time));
     all.push_back("physics.gravity=[0, " + std::to_string(-gravity) + "]");
-    Simulation simulation(load("hydrostatic.json", all), method);
+    const Scene scene = load("hydrostatic.json", all);  // the Simulation keeps a reference to it
+    Simulation simulation(scene, method);
     simulation.run_to(0.5);
     simulation.pressure_sensors().take_row(simulation.particles());
     simulation.run_to(end_time);

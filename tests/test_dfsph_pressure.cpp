@@ -76,7 +76,8 @@ TEST_CASE("DFSPH pressure: p = (kappa + kappa^v) rho on a hand-computed particle
   CHECK(bottom == 19);
   CHECK(top == 19);
   // The default start is zero: no pressure at t = 0.
-  Simulation cold(load("hydrostatic.json"), dfsph_info());
+  const Scene cold_scene = load("hydrostatic.json");  // the Simulation keeps a reference to it
+  Simulation cold(cold_scene, dfsph_info());
   for (std::size_t i = 0; i < cold.particles().size(); ++i) CHECK(cold.particles().pressure[i] == 0.0);
 }
 

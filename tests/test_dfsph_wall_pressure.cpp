@@ -241,7 +241,8 @@ TEST_CASE("DFSPH wall_pressure: bad input is a one-line error naming the key", "
   const MethodInfo& dfsph = *registries().methods.find("dfsph");
   const auto message = [&](const std::vector<std::string>& overrides) -> std::string {
     try {
-      Simulation simulation(load("hydrostatic.json", overrides), dfsph);
+      const Scene scene = load("hydrostatic.json", overrides);  // the Simulation keeps a reference to it
+      Simulation simulation(scene, dfsph);
     } catch (const std::exception& error) {
       return error.what();
     }

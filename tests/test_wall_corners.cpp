@@ -45,8 +45,10 @@ TEST_CASE("mirror particles at a box's convex and concave corners give the latti
   // tests/test_walls.cpp's dam break). Before the fix (doubled images at the top corners, none
   // in the bed under the box's foot) the worst particle was off by 1.1 (measured).
   const MethodInfo& mps = *registries().methods.find("mps");
-  const std::vector<double> expected = fluid_number_density(Simulation(load("hydrostatic_box.json"), mps));
-  const Simulation mirrored(load("hydrostatic_box.json", {kMirror}), mps);
+  const Scene box_scene = load("hydrostatic_box.json");
+  const std::vector<double> expected = fluid_number_density(Simulation(box_scene, mps));
+  const Scene mirror_scene = load("hydrostatic_box.json", {kMirror});  // the Simulation keeps a reference
+  const Simulation mirrored(mirror_scene, mps);
   CHECK(mirrored.particles().count(ParticleType::Wall) == 0);
   const std::vector<double> n = fluid_number_density(mirrored);
   REQUIRE(n.size() == expected.size());

@@ -33,6 +33,10 @@ class Simulation {
  public:
   // `pressure_system_observer` goes to the method (MethodSetup): empty in a run.
   Simulation(const Scene& scene, const MethodInfo& method, PressureSystemObserver pressure_system_observer = {});
+  // It keeps a reference to its scene: a temporary one would dangle (caught by AddressSanitizer in a
+  // test as stack-use-after-scope), so it is refused at compile time.
+  Simulation(const Scene&& scene, const MethodInfo& method,
+             PressureSystemObserver pressure_system_observer = {}) = delete;
 
   // Advances one step; returns the step's report. Before a step whose index (steps()) is a
   // positive multiple of the scene's run.sort_period, the particles are first reordered by cell
