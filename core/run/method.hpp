@@ -150,8 +150,9 @@ struct MethodInfo {
   // its walls (WallTreatmentInfo::moving_walls).
   bool moving_walls = false;
   // True when, with every boundary model of wall particles it implements, its step computes the
-  // fluid's reaction on each wall particle (Method::wall_reactions): the driver then sums it into
-  // the load on every obstacle (core/walls/obstacle_loads.hpp) and writes it to series.csv.
+  // fluid's reaction on each wall particle (Method::wall_reactions), or its load is the fluid's
+  // pressure (obstacle_load_kind FluidPressure, integrated by the driver): the driver then has the
+  // load on every obstacle (core/walls/obstacle_loads.hpp) and writes it to series.csv.
   bool obstacle_loads = false;
   // True when, with every boundary model of wall samples, its step computes the fluid's reaction on
   // each obstacle's samples (Method::wall_sample_loads) or its load there is the fluid's pressure,
