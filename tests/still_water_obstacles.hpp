@@ -8,6 +8,8 @@
 #include <string>
 #include <vector>
 
+#include <catch2/catch.hpp>
+
 #include "core/base/types.hpp"
 #include "core/io/geometry.hpp"
 #include "core/run/driver.hpp"
@@ -108,6 +110,18 @@ inline Vec2 fluid_total(const ParticleSet& particles, const std::vector<Vec2>& a
     if (particles.type[i] == ParticleType::Fluid) sum += mass * acceleration[i];
   }
   return sum;
+}
+
+// Equal and opposite: the force the samples gave the fluid (`on_fluid`, N/m, the operator with the
+// samples less without) against their reaction on the two obstacles and the tank: their sum within
+// 1e-8 N/m (~1e3 pair terms of at most ~1e2 N/m: rounding ~1e-10 N/m), and `on_fluid` above `least`
+// (N/m), so that the samples pushed the water: a test of something.
+inline void check_equal_and_opposite(const std::string& what, const Vec2& on_fluid, const WallSampleLoads& loads,
+                                     double least) {
+  const Vec2 on_walls = loads.tank_force + loads.force[0] + loads.force[1];
+  INFO(what << ": on the fluid " << on_fluid.transpose() << " N/m, on the walls " << on_walls.transpose());
+  CHECK(on_fluid.norm() > least);
+  CHECK((on_fluid + on_walls).norm() < 1e-8);
 }
 
 }  // namespace mps_lab::testing

@@ -124,10 +124,6 @@ TEST_CASE("wall sample loads: isph sample pair terms are equal and opposite to w
     isph::add_viscous_acceleration(p, state.neighbours, isph::no_wall_samples(), kernel, mass, density, 1000.0, nu,
                                    eta2, without);
     const Vec2 on_fluid = fluid_total(p, with, mass) - fluid_total(p, without, mass);
-    const Vec2 on_walls = loads.tank_force + loads.force[0] + loads.force[1];
-    INFO(model->name << " viscous: on the fluid " << on_fluid.transpose() << " N/m, on the walls "
-                     << on_walls.transpose());
-    CHECK(on_fluid.norm() > 1e-3);
-    CHECK((on_fluid + on_walls).norm() < 1e-8);
+    check_equal_and_opposite(model->name + " viscous", on_fluid, loads, 1e-3);
   }
 }
