@@ -125,8 +125,8 @@ namespace {
 //   dummy_layers: the loads of the wall particles it stands for (isph and dfsph to 4 digits).
 //   distance_function: the box within 2 %, the plate 20-24 % low.
 //   mirror_particles: the box 13-27 % high in every method, where the fluid's own pressure carried to
-//     the box's surface reads 0.85-0.97 of Archimedes (0.92 isph): the images' pair forces at the
-//     box's convex corners, not the pressure field (docs/walls.md, "Loads with wall samples").
+//     the box's surface reads 0.85-0.97 of Archimedes (0.92 isph): the images' pair forces, not the
+//     pressure field (which images, not isolated: docs/walls.md, "Loads with wall samples").
 //   Diverging (the stability monitor stops the run before 1 s; the wall study's box rows show the same
 //   water not staying at rest, docs/data/wall_study.md): mps with mirror particles and with the
 //   distance function, dfsph and wcsph with the distance function.
