@@ -15,6 +15,21 @@ using namespace mps_lab;
 using namespace mps_lab::wcsph;
 using namespace mps_lab::testing;
 
+namespace {
+
+// Either viscosity model with values large enough that its sums lie far above rounding: alpha = 0.02,
+// nu = 1e-3 m^2/s, h = 1.5 l0 (m), eta = 0.1 h.
+ViscositySettings test_viscosity(Viscosity model, double l0, const TaitEquation& eos) {
+  ViscositySettings viscosity;
+  viscosity.model = model;
+  viscosity.alpha_h_c0 = 0.02 * 1.5 * l0 * eos.sound_speed;
+  viscosity.kinematic_viscosity = 1e-3;
+  viscosity.eta2 = 0.01 * 1.5 * l0 * 1.5 * l0;
+  return viscosity;
+}
+
+}  // namespace
+
 TEST_CASE("obstacle loads: wcsph wall pair terms are equal and opposite to what the fluid receives", "[wcsph][loads]") {
   // Fluid side: momentum() with the wall particles and with them turned into ghosts (skipped by
   // every sum), gravity 0; wall side: add_momentum_wall_reactions. ~1e3 pair terms of at most
@@ -38,11 +53,7 @@ TEST_CASE("obstacle loads: wcsph wall pair terms are equal and opposite to what 
   const WallSampleList none;
   const TaitEquation eos;
   for (const Viscosity model : {Viscosity::Artificial, Viscosity::Laminar}) {
-    ViscositySettings viscosity;
-    viscosity.model = model;
-    viscosity.alpha_h_c0 = 0.02 * 1.5 * l0 * eos.sound_speed;
-    viscosity.kinematic_viscosity = 1e-3;
-    viscosity.eta2 = 0.01 * 1.5 * l0 * 1.5 * l0;
+    const ViscositySettings viscosity = test_viscosity(model, l0, eos);
     const FluidState with{p, neighbours, none, kernel, mass, density, velocity, pressure, eos, Vec2::Zero(), true};
     const FluidState without{no_walls, neighbours, none, kernel,       mass, density,
                              velocity, pressure,   eos,  Vec2::Zero(), true};
@@ -78,11 +89,7 @@ TEST_CASE("wall sample loads: wcsph sample pair terms are equal and opposite to 
     const WallSampleList none;
     const TaitEquation eos;
     for (const Viscosity viscous : {Viscosity::Artificial, Viscosity::Laminar}) {
-      ViscositySettings viscosity;
-      viscosity.model = viscous;
-      viscosity.alpha_h_c0 = 0.02 * 1.5 * l0 * eos.sound_speed;
-      viscosity.kinematic_viscosity = 1e-3;
-      viscosity.eta2 = 0.01 * 1.5 * l0 * 1.5 * l0;
+      const ViscositySettings viscosity = test_viscosity(viscous, l0, eos);
       const FluidState with{p,          state.neighbours, state.samples, kernel,       mass, density,
                             p.velocity, p.pressure,       eos,           Vec2::Zero(), true};
       const FluidState without{p,          state.neighbours, none, kernel,       mass, density,
