@@ -51,7 +51,7 @@ TEST_CASE("Every method's recorded pressure system is well formed and the projec
     // symmetric up to the rounding of the two weights' sums (1e-12 of the diagonal).
     if (system.krylov == mps_lab::KrylovMethod::ConjugateGradient) CHECK(largest_asymmetry(system.matrix) < 1e-12);
     std::vector<double> solution;
-    const mps_lab::SolveMeasure measure = mps_lab::solve_with_core_amg(system, 1, solution);
+    const mps_lab::SolveMeasure measure = mps_lab::solve_with_core_amg(system, mps_lab::AmgOptions{}, 1, solution);
     CHECK(measure.converged);
     CHECK(measure.residual <= system.tolerance * 1.0001);  // recomputed: the Krylov stopping rule's own residual
     CHECK(measure.levels >= 1);

@@ -37,6 +37,9 @@ struct BenchOptions {
   std::string scene;
   std::vector<double> spacings{0.005};
   std::vector<int> threads{1};
+  // Smoother degrees of the project's AMG (AmgOptions::smoother_sweeps); the first is the one
+  // BoomerAMG is compared with. Default: the library's default.
+  std::vector<int> amg_degrees{mps_lab::AmgOptions{}.smoother_sweeps};
   // time.time_step = this x l0 (s/m): the spec's 5e-4 s at l0 = 0.025, and a Courant number that
   // stays below 1 at every spacing (the performance study's rule, docs/performance.md).
   double time_step_per_spacing = 0.02;
@@ -94,16 +97,32 @@ void print_row(const PressureSystem& system, const char* solver, int parallelism
               m.setup_seconds, m.solve_seconds, m.iterations, m.residual, m.memory_bytes / system.matrix.rows);
 }
 
-// Every thread count with the project's AMG (one rank only), then BoomerAMG on the ranks.
+// "core_amg" for the library's default smoother degree, "core_amg_degreeN" for another.
+std::string core_amg_label(int degree) {
+  return degree == mps_lab::AmgOptions{}.smoother_sweeps ? "core_amg" : "core_amg_degree" + std::to_string(degree);
+}
+
+// Every smoother degree and thread count with the project's AMG (one rank only), then
+// BoomerAMG on the ranks; the solutions compared are those of the first degree.
 nlohmann::json compare_on(const PressureSystem& system, const BenchOptions& options, int ranks, int rank) {
   nlohmann::json rows = nlohmann::json::array();
-  std::vector<double> solution, core_solution;
+  std::vector<double> solution, core_solution, other_solution;
   if (ranks == 1) {
-    for (int threads : options.threads) {
-      omp_set_num_threads(threads);
-      const SolveMeasure m = mps_lab::solve_with_core_amg(system, options.repeats, core_solution);
-      print_row(system, "core_amg", threads, m);
-      rows.push_back({{"solver", "core_amg"}, {"threads", threads}, {"ranks", 1}, {"measure", measure_json(m)}});
+    for (int degree : options.amg_degrees) {
+      mps_lab::AmgOptions amg;
+      amg.smoother_sweeps = degree;
+      const std::string label = core_amg_label(degree);
+      for (int threads : options.threads) {
+        omp_set_num_threads(threads);
+        std::vector<double>& into = degree == options.amg_degrees.front() ? core_solution : other_solution;
+        const SolveMeasure m = mps_lab::solve_with_core_amg(system, amg, options.repeats, into);
+        print_row(system, label.c_str(), threads, m);
+        rows.push_back({{"solver", label},
+                        {"threads", threads},
+                        {"ranks", 1},
+                        {"smoother_degree", degree},
+                        {"measure", measure_json(m)}});
+      }
     }
   }
   omp_set_num_threads(1);
@@ -187,6 +206,10 @@ int main(int argc, char** argv) {
   app.add_option("scene", options.scene, "scene file (default: scenes/dambreak.json)");
   app.add_option("--spacings", options.spacings, "particle spacings, m")->delimiter(',');
   app.add_option("--threads", options.threads, "OpenMP threads of the project's AMG (one rank only)")->delimiter(',');
+  app.add_option("--amg-degrees", options.amg_degrees,
+                 "smoother degrees of the project's AMG, each timed (the first is compared with BoomerAMG)")
+      ->delimiter(',')
+      ->check(CLI::PositiveNumber);
   app.add_option("--time-step-per-spacing", options.time_step_per_spacing, "time.time_step / particle_spacing, s/m")
       ->check(CLI::PositiveNumber);
   app.add_option("--repeats", options.repeats, "timings per solve; the best is reported")->check(CLI::PositiveNumber);

@@ -68,7 +68,8 @@ double relative_residual(const CsrMatrix& matrix, const std::vector<double>& rhs
   return rhs_squared > 0.0 ? std::sqrt(residual_squared / rhs_squared) : 0.0;
 }
 
-SolveMeasure solve_with_core_amg(const PressureSystem& system, int repeats, std::vector<double>& solution) {
+SolveMeasure solve_with_core_amg(const PressureSystem& system, const AmgOptions& amg_options, int repeats,
+                                 std::vector<double>& solution) {
   SolveMeasure best;
   best.setup_seconds = best.solve_seconds = std::numeric_limits<double>::infinity();
   KrylovSettings krylov;
@@ -76,7 +77,7 @@ SolveMeasure solve_with_core_amg(const PressureSystem& system, int repeats, std:
   krylov.max_iterations = 10000;
   for (int repeat = 0; repeat < repeats; ++repeat) {
     const double memory_before = heap_bytes_in_use();
-    AmgPreconditioner amg;  // a fresh hierarchy each time: set-up from nothing, as a new run's first step
+    AmgPreconditioner amg(amg_options);  // a fresh hierarchy each time: set-up from nothing, as a new run's first step
     KrylovWorkspace workspace;
     solution.assign(system.rhs.size(), 0.0);
     const auto setup_start = Clock::now();

@@ -11,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include "core/linalg/amg.hpp"
 #include "core/linalg/projection_solver.hpp"
 #include "core/linalg/sparse_matrix.hpp"
 #include "core/run/method.hpp"
@@ -47,9 +48,10 @@ struct SolveMeasure {
   bool converged = false;
 };
 
-// The project's solve (core/linalg/amg.hpp + krylov.hpp), the best of `repeats` timings with
-// the calling thread's OpenMP team.
-SolveMeasure solve_with_core_amg(const PressureSystem& system, int repeats, std::vector<double>& solution);
+// The project's solve (core/linalg/amg.hpp + krylov.hpp) with `amg` options, the best of
+// `repeats` timings with the calling thread's OpenMP team.
+SolveMeasure solve_with_core_amg(const PressureSystem& system, const AmgOptions& amg, int repeats,
+                                 std::vector<double>& solution);
 
 // Heap bytes in use by this process (glibc mallinfo2: small and mmap'd blocks).
 double heap_bytes_in_use();
