@@ -196,11 +196,15 @@ Counts count_iterations(const CsrMatrix& a, bool with_jacobi, const char* label)
   return counts;
 }
 
-// AMG-PCG iterations to 1e-8 from zero with the default options, measured (the counts do not
-// depend on the thread count): Poisson n = 32 .. 1024: 14-15; particle lattice 1e3 .. 1e6
-// unknowns: 15-18; jittered and shuffled: 15-21. Bounds: measured maximum + about 30 %.
-constexpr int kPoissonAmgBound = 20;
-constexpr int kParticleAmgBound = 27;
+// AMG-PCG iterations to 1e-8 from zero with the default options (degree-1 smoother), measured
+// (the counts do not depend on the thread count): Poisson n = 32 .. 512: 19-20; particle
+// lattice 1e3 .. 2.5e5 unknowns: 11-18; jittered and shuffled: 18-26. Bounds: measured maximum
+// + about 30 %. (Degree 2 on [rho/30, rho]: 14-15, 15-18, 15-21.)
+constexpr int kPoissonAmgBound = 26;
+constexpr int kParticleAmgBound = 34;
+// Growth of the AMG count over a 100-fold size increase: at most 2x (measured 1.64x on the
+// particle lattice, 1.05x on Poisson), where Jacobi-CG grows like sqrt(N): 10x.
+constexpr int kAmgGrowthFactor = 2;
 
 }  // namespace
 
@@ -212,9 +216,9 @@ TEST_CASE("AMG-PCG iterations stay flat on the 5-point Poisson matrix", "[amg]")
     counts.push_back(count_iterations(poisson_5_point(n), true, label));
   }
   for (const Counts& c : counts) CHECK(c.amg <= kPoissonAmgBound);
-  // Jacobi-CG grows like n (= sqrt(N)): x4 in n, at least x3 in iterations; AMG at most +50 %.
+  // Jacobi-CG grows like n (= sqrt(N)): x4 in n, at least x3 in iterations; AMG far less.
   CHECK(counts.back().jacobi >= 3 * counts.front().jacobi);
-  CHECK(counts.back().amg * 2 <= counts.front().amg * 3);
+  CHECK(counts.back().amg <= kAmgGrowthFactor * counts.front().amg);
 }
 
 TEST_CASE("AMG-PCG iterations stay flat on the 5-point Poisson matrix - large grids", "[amg][long]") {
@@ -235,7 +239,7 @@ TEST_CASE("AMG-PCG iterations stay flat on a particle-like (MPS kernel) matrix",
   }
   for (const Counts& c : counts) CHECK(c.amg <= kParticleAmgBound);
   CHECK(counts[1].jacobi >= 2 * counts[0].jacobi);
-  CHECK(counts.back().amg * 2 <= counts.front().amg * 3);
+  CHECK(counts.back().amg <= kAmgGrowthFactor * counts.front().amg);
   // Irregular points in an unsorted order (particles after some steps).
   const Counts shuffled =
       count_iterations(particle_matrix(100, 100, {0.2, true, 0.0}), false, "particles 100 jitter+shuffle");

@@ -33,11 +33,20 @@
 // makes the V-cycle symmetric (in exact arithmetic) for a symmetric matrix, and positive
 // definite: the Chebyshev interval's upper end is a Gershgorin bound of the spectrum of D^-1 A.
 //
-// Measured (tests/test_amg.cpp, this 2-core machine, 1 thread): CG to 1e-8 takes 14 iterations
-// on the 5-point Poisson matrix for n = 32 .. 1024 and 15-18 on the MPS-kernel lattice matrix
-// for 1e3 .. 1e6 unknowns (16-21 with jittered points in shuffled order), against Jacobi-CG's
-// 102 .. 1503 and 122 .. 1816. Operator complexity 1.2-1.35. Cost per unknown: setup
-// 160-360 ns (about 20 Jacobi-CG iterations), apply 35-80 ns (about 4.5 Jacobi-CG iterations).
+// The default smoother is the degree-1 polynomial: x += D^-1 r / theta, theta the centre of
+// [rho / chebyshev_ratio, rho] (damped Jacobi with weight 2 / ((1 + 1/30) rho) < 2 / rho, so the
+// V-cycle stays positive definite). On the pressure systems of the dam break it needs as few
+// or fewer CG / BiCGSTAB iterations than degree 2 on [rho/30, rho] at half the smoothing work
+// (docs/performance.md, "A degree-1 smoother": mps 13 / 18 iterations at 4e3 / 1e6 unknowns
+// against 14 / 19, isph 9 / 10 against 9 / 12; set-up + solve 21 % (mps) and 48 % (isph)
+// faster at 1e6 unknowns on 2 threads).
+//
+// Measured (tests/test_amg.cpp, this 2-core machine, 1 thread, degree 1): CG to 1e-8 takes
+// 19-20 iterations on the 5-point Poisson matrix for n = 32 .. 512 and 11-18 on the
+// MPS-kernel lattice matrix for 1e3 .. 2.5e5 unknowns (18-26 with jittered points in shuffled
+// order), against Jacobi-CG's 102 .. 753 and 122 .. 1816. Operator complexity 1.1-1.35. On the
+// mps dam-break systems (1 thread): setup 530 ns per unknown at 4e3 and 454 ns at 1e6 (about
+// 15 products with the matrix), one V-cycle 29 ns per unknown at 4e3 (3.2 products).
 //
 // OpenMP over rows everywhere except the aggregation (sequential, O(rows)) and the coarsest
 // solve; every sum is taken in a fixed order, so setup() and apply() give the same bits for
@@ -62,7 +71,8 @@ struct AmgOptions {
   // aggregates on a lattice.
   double strength_threshold = 0.02;
   // Polynomial degree (Chebyshev) or number of sweeps (damped Jacobi), before and after.
-  int smoother_sweeps = 2;
+  // Degree 1: measured on the projection methods' pressure systems (above).
+  int smoother_sweeps = 1;
   AmgSmoother smoother = AmgSmoother::chebyshev;
   // Chebyshev interval [rho / chebyshev_ratio, rho] of D^-1 A (rho: Gershgorin bound).
   double chebyshev_ratio = 30.0;
