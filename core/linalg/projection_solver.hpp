@@ -45,6 +45,13 @@ PreconditionerKind preconditioner_from_name(const std::string& name);
 // The vocabulary's name of `kind` (run.json's method summary).
 const char* preconditioner_name(PreconditionerKind kind);
 
+// The default of the methods' `amg_min_fluid_particles`: the measured break-even of AMG (with
+// its degree-1 smoother) against Jacobi, 1 thread, the dam break from rest (docs/performance.md,
+// "A degree-1 smoother"): Jacobi faster at 288 fluid particles, even at 406 and 578, AMG
+// faster from 741 on (mps's solve 0.54-0.56 against 0.60-0.92 ms, isph's 0.77-0.78 against
+// 1.02-1.38 ms per step).
+constexpr int kDefaultAmgMinFluidParticles = 600;
+
 // Resolves a `preconditioner` parameter: "auto" is amg from `amg_min_fluid_particles` fluid
 // particles on and jacobi below (decided once per run from the initial particles, so that a
 // restored checkpoint decides the same); any other value names its kind.

@@ -102,9 +102,9 @@ class IsphMethod final : public Method {
 
   void initialise(ParticleSet& particles) override {
     const std::size_t n = particles.size();
-    // "auto": AMG from amg_min_fluid_particles on (docs/performance.md: at 741 fluid particles
-    // the diagonal preconditioner is 1.3x faster, at 4851 AMG is 1.5x faster), decided once per
-    // run from the initial particles, so a restored checkpoint decides the same.
+    // "auto": AMG from amg_min_fluid_particles on (kDefaultAmgMinFluidParticles: the measured
+    // break-even), decided once per run from the initial particles, so a restored checkpoint
+    // decides the same.
     settings_.preconditioner =
         choose_preconditioner(preconditioner_choice_, particles.count(ParticleType::Fluid), amg_min_fluid_particles_);
     acceleration_.assign(n, Vec2::Zero());
@@ -473,7 +473,7 @@ class IsphMethod final : public Method {
   PositionUpdate position_update_ = PositionUpdate::SemiImplicit;
   PressureSolveSettings settings_;
   std::string preconditioner_choice_;  // the parameter: "auto" or a preconditioner
-  std::size_t amg_min_fluid_particles_ = 2000;
+  std::size_t amg_min_fluid_particles_ = kDefaultAmgMinFluidParticles;
   CellList cells_;
   NeighbourList neighbours_;
   WallSampleList samples_;  // of the boundary model, at the positions of the last search
@@ -548,7 +548,7 @@ static std::vector<mps_lab::ParameterSpec> isph_parameters() {
                        "BiCGSTAB preconditioner (incomplete_factorisation: ILU(0)); auto: amg from "
                        "amg_min_fluid_particles fluid particles on, jacobi below")
           .one_of(preconditioner_choices()),
-      integer_parameter("amg_min_fluid_particles", 2000,
+      integer_parameter("amg_min_fluid_particles", kDefaultAmgMinFluidParticles,
                         "preconditioner auto: the fluid particle count from which AMG beats Jacobi (measured)")
           .at_least(0),
       number_parameter("solver_tolerance", 1.0e-8, "", "BiCGSTAB stops at ||b - A p|| / ||b|| below this (rows in Pa)")

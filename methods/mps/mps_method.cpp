@@ -93,9 +93,9 @@ class MpsMethod final : public Method {
 
   void initialise(ParticleSet& particles) override {
     const std::size_t n = particles.size();
-    // "auto": AMG from amg_min_fluid_particles on (docs/performance.md: at 741 fluid particles
-    // Jacobi-CG is 1.5x faster, at 4851 AMG-CG is 1.6x faster), decided once per run from the
-    // initial particles, so a restored checkpoint decides the same.
+    // "auto": AMG from amg_min_fluid_particles on (kDefaultAmgMinFluidParticles: the measured
+    // break-even), decided once per run from the initial particles, so a restored checkpoint
+    // decides the same.
     settings_.preconditioner =
         choose_preconditioner(preconditioner_choice_, particles.count(ParticleType::Fluid), amg_min_fluid_particles_);
     carries_pressure_.assign(n, 0);
@@ -439,7 +439,7 @@ class MpsMethod final : public Method {
   std::vector<double> minimum_pressure_;  // Phat of CMPS, Pa
   nlohmann::json scheme_names_;           // for run.json
   std::string preconditioner_choice_;     // the parameter: "auto" or a preconditioner
-  std::size_t amg_min_fluid_particles_ = 2000;
+  std::size_t amg_min_fluid_particles_ = kDefaultAmgMinFluidParticles;
   std::vector<char> carries_pressure_;
   std::vector<Vec2> acceleration_;  // m/s^2
   bool computes_reactions_ = false;
@@ -516,7 +516,7 @@ void mps_lab_register_method_mps(mps_lab::MethodRegistry& registry) {
                        "CG preconditioner (incomplete_factorisation: IC(0)); auto: amg from amg_min_fluid_particles "
                        "fluid particles on, jacobi below")
           .one_of(preconditioner_choices()),
-      integer_parameter("amg_min_fluid_particles", 2000,
+      integer_parameter("amg_min_fluid_particles", kDefaultAmgMinFluidParticles,
                         "preconditioner auto: the fluid particle count from which AMG beats Jacobi (measured)")
           .at_least(0),
       boolean_parameter("warm_start", true, "start CG from the previous step's pressure"),
