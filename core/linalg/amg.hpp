@@ -38,15 +38,16 @@
 // V-cycle stays positive definite). On the pressure systems of the dam break it needs as few
 // or fewer CG / BiCGSTAB iterations than degree 2 on [rho/30, rho] at half the smoothing work
 // (docs/performance.md, "A degree-1 smoother": mps 13 / 18 iterations at 4e3 / 1e6 unknowns
-// against 14 / 19, isph 9 / 10 against 9 / 12; set-up + solve 21 % (mps) and 48 % (isph)
-// faster at 1e6 unknowns on 2 threads).
+// against 14 / 19, isph 9 / 10 against 9 / 12; set-up + solve 0.67 of degree 2's time at 1e6
+// unknowns on 2 threads for both).
 //
 // Measured (tests/test_amg.cpp, this 2-core machine, 1 thread, degree 1): CG to 1e-8 takes
 // 19-20 iterations on the 5-point Poisson matrix for n = 32 .. 512 and 11-18 on the
 // MPS-kernel lattice matrix for 1e3 .. 2.5e5 unknowns (18-26 with jittered points in shuffled
 // order), against Jacobi-CG's 102 .. 753 and 122 .. 1816. Operator complexity 1.1-1.35. On the
-// mps dam-break systems (1 thread): setup 530 ns per unknown at 4e3 and 454 ns at 1e6 (about
-// 15 products with the matrix), one V-cycle 29 ns per unknown at 4e3 (3.2 products).
+// mps dam-break systems (1 thread, docs/data/solver_comparison.md): setup 270-560 ns per
+// unknown from 1e6 down to 4e3 unknowns (about 15 products with the matrix at 4e3), one V-cycle
+// about 29 ns per unknown at 4e3 (3.2 products).
 //
 // OpenMP over rows everywhere except the aggregation (sequential, O(rows)) and the coarsest
 // solve; every sum is taken in a fixed order, so setup() and apply() give the same bits for
