@@ -7,6 +7,8 @@
 
 #include <omp.h>
 
+#include "core/io/checkpoint.hpp"
+
 namespace mps_lab {
 
 namespace {
@@ -174,40 +176,70 @@ const CsrMatrix& AmgPreconditioner::level_matrix(std::size_t level) const {
   return level == 0 ? *fine_matrix_ : levels_[level].matrix;
 }
 
+// The smoother's data of `level` for its matrix `a`: the inverse diagonal and the Gershgorin
+// bound of rho(D^-1 A) (max is exact: deterministic), and the work vectors. The residual has one
+// entry more than the rows, held at 0: a transfer of a refreshed hierarchy reads it for a base
+// row without a current one (refresh()).
+void AmgPreconditioner::prepare_smoother(std::size_t level, const CsrMatrix& a) {
+  Level& current = levels_[level];
+  const int rows = a.rows;
+  current.inverse_diagonal.resize(static_cast<std::size_t>(rows));
+  double bound = 0.0;
+#pragma omp parallel for schedule(static) reduction(max : bound) if (rows >= kParallelRows)
+  for (int r = 0; r < rows; ++r) {
+    const double diagonal = diagonal_of_row(a, r);
+    double absolute_sum = 0.0;
+    for (int k = a.row_start[r]; k < a.row_start[r + 1]; ++k) absolute_sum += std::abs(a.value[k]);
+    current.inverse_diagonal[r] = diagonal != 0.0 ? 1.0 / diagonal : 0.0;
+    if (diagonal != 0.0) bound = std::max(bound, absolute_sum / std::abs(diagonal));
+  }
+  current.spectral_bound = bound > 0.0 ? bound : 1.0;
+  const std::size_t vector_size = static_cast<std::size_t>(rows);
+  // The finest level's right-hand side and solution are the caller's (apply): none kept.
+  current.rhs.resize(level == 0 ? 0 : vector_size);
+  current.solution.resize(level == 0 ? 0 : vector_size);
+  current.residual.assign(vector_size + 1, 0.0);
+  current.direction.resize(vector_size);
+}
+
 void AmgPreconditioner::setup(const CsrMatrix& matrix) {
   fine_matrix_ = &matrix;
+  refreshed_ = false;
   const auto threads = static_cast<std::size_t>(std::max(1, omp_get_max_threads()));
   if (thread_scratch_.size() < threads) thread_scratch_.resize(threads);
   level_count_ = 0;
   for (std::size_t level = 0;; ++level) {
     if (levels_.size() < level + 2) levels_.resize(level + 2);  // this level and the next
-    Level& current = levels_[level];
     const CsrMatrix& a = level_matrix(level);
     const int rows = a.rows;
-    // Inverse diagonal and the Gershgorin bound of rho(D^-1 A) (max is exact: deterministic).
-    current.inverse_diagonal.resize(static_cast<std::size_t>(rows));
-    double bound = 0.0;
-#pragma omp parallel for schedule(static) reduction(max : bound) if (rows >= kParallelRows)
-    for (int r = 0; r < rows; ++r) {
-      const double diagonal = diagonal_of_row(a, r);
-      double absolute_sum = 0.0;
-      for (int k = a.row_start[r]; k < a.row_start[r + 1]; ++k) absolute_sum += std::abs(a.value[k]);
-      current.inverse_diagonal[r] = diagonal != 0.0 ? 1.0 / diagonal : 0.0;
-      if (diagonal != 0.0) bound = std::max(bound, absolute_sum / std::abs(diagonal));
-    }
-    current.spectral_bound = bound > 0.0 ? bound : 1.0;
-    const std::size_t vector_size = static_cast<std::size_t>(rows);
-    // The finest level's right-hand side and solution are the caller's (apply): none kept.
-    current.rhs.resize(level == 0 ? 0 : vector_size);
-    current.solution.resize(level == 0 ? 0 : vector_size);
-    current.residual.resize(vector_size);
-    current.direction.resize(vector_size);
+    prepare_smoother(level, a);
     level_count_ = level + 1;
     if (rows <= options_.coarsest_size || static_cast<int>(level) + 1 >= options_.max_levels) break;
     build_level(level);
     if (levels_[level + 1].matrix.rows == 0 || levels_[level + 1].matrix.rows >= rows) break;
   }
   factorise_coarsest();
+  base_rows_ = matrix.rows;
+}
+
+void AmgPreconditioner::refresh(const CsrMatrix& matrix, const std::vector<int>& base_row_of_row) {
+  if (level_count_ == 0) throw std::logic_error("AmgPreconditioner::refresh before setup");
+  if (base_row_of_row.size() != static_cast<std::size_t>(matrix.rows))
+    throw std::logic_error("AmgPreconditioner::refresh: one base row per row expected");
+  fine_matrix_ = &matrix;
+  if (level_count_ == 1) {  // a single level: the direct solve must be of this matrix
+    setup(matrix);
+    return;
+  }
+  refreshed_ = true;
+  prepare_smoother(0, matrix);
+  base_row_of_row_ = base_row_of_row;
+  const int rows = matrix.rows;
+  row_of_base_row_.assign(static_cast<std::size_t>(base_rows_), rows);  // rows: the residual's 0 entry
+  for (int r = 0; r < rows; ++r) {
+    const int base = base_row_of_row[static_cast<std::size_t>(r)];
+    if (base >= 0 && base < base_rows_) row_of_base_row_[static_cast<std::size_t>(base)] = r;
+  }
 }
 
 namespace {
@@ -576,6 +608,45 @@ void AmgPreconditioner::smooth(std::size_t level, const double* rhs, double* sol
   }
 }
 
+// coarse_rhs = R residual. `mapped` (a refreshed finest level): R's columns are the base rows,
+// each read from its current row (row_of_base_row_; a base row without one reads the residual's
+// zero entry past its rows).
+void AmgPreconditioner::restrict_residual(const Level& current, const double* residual, bool mapped,
+                                          double* coarse_rhs) const {
+  const CsrMatrix& restriction = current.restriction;
+  const int coarse_rows = restriction.rows;
+  const int* row_of_base = row_of_base_row_.data();
+#pragma omp parallel for schedule(static) if (coarse_rows >= kParallelRows)
+  for (int c = 0; c < coarse_rows; ++c) {
+    double sum = 0.0;
+    if (mapped) {
+      for (int k = restriction.row_start[c]; k < restriction.row_start[c + 1]; ++k)
+        sum += restriction.value[k] * residual[row_of_base[restriction.column[k]]];
+    } else {
+      for (int k = restriction.row_start[c]; k < restriction.row_start[c + 1]; ++k)
+        sum += restriction.value[k] * residual[restriction.column[k]];
+    }
+    coarse_rhs[c] = sum;
+  }
+}
+
+// solution += scaling P coarse. `mapped`: row r takes P's row of its base row (base_row_of_row_),
+// none when it has none (a row new since the setup is left to the smoother).
+void AmgPreconditioner::prolong_correction(const Level& current, const double* coarse, bool mapped, int rows,
+                                           double* solution) const {
+  const CsrMatrix& p = current.prolongator;
+  const double scaling = options_.coarse_correction_scaling;
+  const int* base_of = base_row_of_row_.data();
+#pragma omp parallel for schedule(static) if (rows >= kParallelRows)
+  for (int r = 0; r < rows; ++r) {
+    const int source = mapped ? base_of[r] : r;
+    if (source < 0) continue;
+    double correction = 0.0;
+    for (int k = p.row_start[source]; k < p.row_start[source + 1]; ++k) correction += p.value[k] * coarse[p.column[k]];
+    solution[r] += scaling * correction;
+  }
+}
+
 void AmgPreconditioner::cycle(std::size_t level, const double* rhs, double* solution) const {
   if (level + 1 == level_count_) {
     solve_coarsest(rhs, solution);
@@ -594,27 +665,10 @@ void AmgPreconditioner::cycle(std::size_t level, const double* rhs, double* solu
     for (int k = a.row_start[r]; k < a.row_start[r + 1]; ++k) product += a.value[k] * solution[a.column[k]];
     residual[r] = rhs[r] - product;
   }
-  const CsrMatrix& restriction = current.restriction;
-  const int coarse_rows = restriction.rows;
-  double* coarse_rhs = next.rhs.data();
-#pragma omp parallel for schedule(static) if (coarse_rows >= kParallelRows)
-  for (int c = 0; c < coarse_rows; ++c) {
-    double sum = 0.0;
-    for (int k = restriction.row_start[c]; k < restriction.row_start[c + 1]; ++k)
-      sum += restriction.value[k] * residual[restriction.column[k]];
-    coarse_rhs[c] = sum;
-  }
+  const bool mapped = level == 0 && refreshed_;
+  restrict_residual(current, residual, mapped, next.rhs.data());
   cycle(level + 1, next.rhs.data(), next.solution.data());
-  // solution += scaling P coarse_solution
-  const CsrMatrix& p = current.prolongator;
-  const double scaling = options_.coarse_correction_scaling;
-  const double* coarse = next.solution.data();
-#pragma omp parallel for schedule(static) if (rows >= kParallelRows)
-  for (int r = 0; r < rows; ++r) {
-    double correction = 0.0;
-    for (int k = p.row_start[r]; k < p.row_start[r + 1]; ++k) correction += p.value[k] * coarse[p.column[k]];
-    solution[r] += scaling * correction;
-  }
+  prolong_correction(current, next.solution.data(), mapped, rows, solution);
   smooth(level, rhs, solution, false);
 }
 
@@ -622,6 +676,91 @@ void AmgPreconditioner::apply(const double* residual, double* result) const {
   if (fine_matrix_ == nullptr) throw std::logic_error("AmgPreconditioner::apply before setup");
   if (fine_matrix_->rows == 0) return;
   cycle(0, residual, result);
+}
+
+namespace {
+
+std::vector<std::uint32_t> as_u32s(const std::vector<int>& values) {
+  return std::vector<std::uint32_t>(values.begin(), values.end());
+}
+
+std::vector<int> as_ints(const std::vector<std::uint32_t>& values) {
+  return std::vector<int>(values.begin(), values.end());
+}
+
+void write_csr(CheckpointWriter& out, const CsrMatrix& matrix) {
+  out.write_int(matrix.rows);
+  out.write_bool(matrix.diagonal_first);
+  out.write_u32s(as_u32s(matrix.row_start));
+  out.write_u32s(as_u32s(matrix.column));
+  out.write_doubles(matrix.value);
+}
+
+void read_csr(CheckpointReader& in, CsrMatrix& matrix) {
+  matrix.rows = static_cast<int>(in.read_int());
+  matrix.diagonal_first = in.read_bool();
+  matrix.row_start = as_ints(in.read_u32s());
+  matrix.column = as_ints(in.read_u32s());
+  matrix.value = in.read_doubles();
+  if (matrix.row_start.size() != static_cast<std::size_t>(matrix.rows) + 1 ||
+      matrix.column.size() != matrix.value.size() ||
+      static_cast<std::size_t>(matrix.row_start.back()) != matrix.column.size()) {
+    in.fail("an AMG level's matrix is inconsistent");
+  }
+}
+
+}  // namespace
+
+void AmgPreconditioner::save_state(CheckpointWriter& out) const {
+  out.write_size(level_count_);
+  out.write_int(base_rows_);
+  for (std::size_t level = 0; level < level_count_; ++level) {
+    const Level& l = levels_[level];
+    const bool coarsest = level + 1 == level_count_;
+    if (level > 0) {
+      write_csr(out, l.matrix);
+      out.write_doubles(l.inverse_diagonal);
+      out.write_double(l.spectral_bound);
+    }
+    if (!coarsest) {
+      write_csr(out, l.prolongator);
+      write_csr(out, l.restriction);
+    }
+  }
+  out.write_doubles(coarsest_factors_);
+}
+
+void AmgPreconditioner::restore_state(CheckpointReader& in) {
+  level_count_ = in.read_size();
+  base_rows_ = static_cast<int>(in.read_int());
+  if (level_count_ > static_cast<std::size_t>(options_.max_levels)) in.fail("too many AMG levels");
+  if (levels_.size() < level_count_ + 1) levels_.resize(level_count_ + 1);
+  for (std::size_t level = 0; level < level_count_; ++level) {
+    Level& l = levels_[level];
+    const bool coarsest = level + 1 == level_count_;
+    if (level > 0) {
+      read_csr(in, l.matrix);
+      l.inverse_diagonal = in.read_doubles();
+      l.spectral_bound = in.read_double();
+      const auto rows = static_cast<std::size_t>(l.matrix.rows);
+      l.rhs.resize(rows);
+      l.solution.resize(rows);
+      l.residual.assign(rows + 1, 0.0);
+      l.direction.resize(rows);
+    }
+    if (!coarsest) {
+      read_csr(in, l.prolongator);
+      read_csr(in, l.restriction);
+    }
+  }
+  coarsest_factors_ = in.read_doubles();
+  const std::size_t coarsest_rows =
+      level_count_ > 1 ? static_cast<std::size_t>(levels_[level_count_ - 1].matrix.rows) : 0;
+  coarsest_work_.resize(coarsest_rows);
+  const auto threads = static_cast<std::size_t>(std::max(1, omp_get_max_threads()));
+  if (thread_scratch_.size() < threads) thread_scratch_.resize(threads);
+  fine_matrix_ = nullptr;  // set by the next setup() or refresh()
+  refreshed_ = false;
 }
 
 std::vector<AmgLevelInfo> AmgPreconditioner::levels() const {

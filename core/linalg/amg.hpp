@@ -101,6 +101,9 @@ struct AmgThreadScratch {
   std::vector<double> value;
 };
 
+class CheckpointWriter;
+class CheckpointReader;
+
 class AmgPreconditioner final : public Preconditioner {
  public:
   explicit AmgPreconditioner(const AmgOptions& options = AmgOptions{});
@@ -108,6 +111,21 @@ class AmgPreconditioner final : public Preconditioner {
   // Builds the hierarchy for `matrix`. Keeps a pointer to it: `matrix` must stay alive and
   // unchanged until the next setup() (the Krylov solver owns it for the solve).
   void setup(const CsrMatrix& matrix) override;
+  // Keeps the coarse levels and the finest transfer operators of the last setup() (the base)
+  // and makes `matrix` the finest level: its smoother is built from `matrix`, and row r of
+  // `matrix` is transferred as row base_row_of_row[r] of the base (-1: a row without one, which
+  // only the smoother treats). The V-cycle stays symmetric positive definite for a symmetric
+  // positive definite `matrix` (R = P^T, coarse operators of the base SPD, the smoother's bound
+  // from `matrix`): a valid preconditioner, whose quality decreases as `matrix` departs from
+  // the base (docs/performance.md, "A reused hierarchy"). A single-level hierarchy is set up
+  // again instead. Keeps a pointer to `matrix`, as setup().
+  void refresh(const CsrMatrix& matrix, const std::vector<int>& base_row_of_row);
+  // Checkpoints: what a refresh() after restore_state needs to give the bits of a refresh()
+  // without the interruption (the base's transfer operators, coarse levels and coarsest
+  // factors; the finest smoother is rebuilt by refresh() from its matrix). restore_state is
+  // followed by setup() or refresh(), never by apply().
+  void save_state(CheckpointWriter& out) const;
+  void restore_state(CheckpointReader& in);
   // result = M^-1 residual (one V-cycle from zero), for residual and result of matrix.rows
   // entries (distinct arrays).
   void apply(const double* residual, double* result) const override;
@@ -132,16 +150,24 @@ class AmgPreconditioner final : public Preconditioner {
   };
 
   const CsrMatrix& level_matrix(std::size_t level) const;
+  void prepare_smoother(std::size_t level, const CsrMatrix& a);
   void build_level(std::size_t level);
   void factorise_coarsest();
   void solve_coarsest(const double* rhs, double* solution) const;
   void smooth(std::size_t level, const double* rhs, double* solution, bool zero_initial) const;
   void cycle(std::size_t level, const double* rhs, double* solution) const;
+  void restrict_residual(const Level& current, const double* residual, bool mapped, double* coarse_rhs) const;
+  void prolong_correction(const Level& current, const double* coarse, bool mapped, int rows, double* solution) const;
 
   AmgOptions options_;
   const CsrMatrix* fine_matrix_ = nullptr;
   std::vector<Level> levels_;  // capacity kept; only the first level_count_ are in use
   std::size_t level_count_ = 0;
+  // refresh(): the finest level is not the base's; its rows' base rows and the base rows'
+  // current rows (the finest row count for none).
+  bool refreshed_ = false;
+  int base_rows_ = 0;
+  std::vector<int> base_row_of_row_, row_of_base_row_;
   // Dense LU factors of the coarsest matrix (row-major, unit lower + upper).
   std::vector<double> coarsest_factors_;
   mutable std::vector<double> coarsest_work_;

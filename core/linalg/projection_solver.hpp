@@ -5,7 +5,7 @@
 // A method assembles its pressure system A p = b (CsrMatrix, diagonal first in each row) with
 // row r standing for particle particle_of[r], then calls ProjectionSolver::solve, which
 //   1. sets up the preconditioner chosen from the one vocabulary below (kept between calls;
-//      rebuilt only when the choice changes),
+//      an AMG hierarchy may serve several systems: amg_reuse_budget, projection_solver.cpp),
 //   2. starts from the particles' pressures (warm start) or from zero (gather_unknowns),
 //   3. runs conjugate gradients (A symmetric positive definite: mps) or BiCGSTAB (A not
 //      symmetric: isph's wall rows) until ||b - A p|| / ||b|| < tolerance or the iteration
@@ -27,6 +27,7 @@
 #include <utility>
 #include <vector>
 
+#include "core/base/parameters.hpp"
 #include "core/linalg/krylov.hpp"
 #include "core/linalg/sparse_matrix.hpp"
 
@@ -52,6 +53,18 @@ const char* preconditioner_name(PreconditionerKind kind);
 // 1.02-1.38 ms per step).
 constexpr int kDefaultAmgMinFluidParticles = 600;
 
+// The default of the methods' `amg_reuse_budget`: an AMG set-up costs about as much as nine
+// preconditioner applications with their products (docs/performance.md, "A reused hierarchy"),
+// so a hierarchy is reused until the applications it has cost beyond its first solve add up to
+// that much.
+constexpr double kDefaultAmgReuseBudget = 8.0;
+
+// The parameters of the solve every projection method declares (core/parameters.hpp):
+// `preconditioner` (the vocabulary above), `amg_min_fluid_particles` and `amg_reuse_budget`;
+// `krylov` and `factorisation` name the method's Krylov solver and what its
+// incomplete_factorisation is ("CG", "IC(0)").
+std::vector<ParameterSpec> projection_solver_parameters(const std::string& krylov, const std::string& factorisation);
+
 // Resolves a `preconditioner` parameter: "auto" is amg from `amg_min_fluid_particles` fluid
 // particles on and jacobi below (decided once per run from the initial particles, so that a
 // restored checkpoint decides the same); any other value names its kind.
@@ -73,6 +86,9 @@ struct ProjectionSolverSettings {
   // written back (isph); null: the pressures are written back as they are (mps, whose
   // stability monitor reports the NaN).
   const char* non_finite_error = nullptr;
+  // AMG only: preconditioner applications a reused hierarchy may cost above the first solve
+  // with it before it is built again (0: built for every system; ProjectionSolver::solve).
+  double amg_reuse_budget = 0.0;
 };
 
 struct ProjectionSolveStatistics {
@@ -90,6 +106,9 @@ using PressureSystemObserver =
     std::function<void(const CsrMatrix& matrix, const std::vector<double>& rhs, const ProjectionSolverSettings&)>;
 
 class ProjectionSolver;
+class CheckpointWriter;
+class CheckpointReader;
+struct ParticleOrder;
 
 // The memory of a projection method's pressure solve under the names `mps_lab bench` reports
 // (docs/performance.md, "Memory"): "matrix", "assembly_slots" (the assembler's held bytes),
@@ -111,13 +130,42 @@ class ProjectionSolver {
   // The heap it holds between solves: the preconditioner's, the solution and the Krylov vectors.
   MemoryBreakdown memory_breakdown() const;
 
+  // Preconditioner set-ups and the solves that reused an AMG hierarchy, since the start (run.json).
+  long long setups() const { return setups_; }
+  long long reused_solves() const { return reused_solves_; }
+
+  // Checkpoints: a reused AMG hierarchy and its reuse state, so that a restored run rebuilds
+  // and reuses it at the same steps, bit for bit (docs/checkpoints.md). A method writes it in
+  // its save_state; restore_state needs the preconditioner kind of the next solve.
+  void save_state(CheckpointWriter& out) const;
+  void restore_state(CheckpointReader& in, PreconditionerKind kind);
+  // Cell-ordered particles: the reused hierarchy's rows by particle move with the particles.
+  void permute_state(const ParticleOrder& order);
+
  private:
-  void prepare_preconditioner(const CsrMatrix& matrix, PreconditionerKind kind);
+  void prepare_preconditioner(const CsrMatrix& matrix, const std::vector<int>& particle_of, std::size_t particles,
+                              const ProjectionSolverSettings& settings);
 
   PreconditionerKind kind_ = PreconditionerKind::Jacobi;
   PressureSystemObserver observer_;
   std::unique_ptr<Preconditioner> preconditioner_;
   std::vector<double> solution_;  // Pa
+  // The hierarchy's reuse since its set-up (core/linalg/projection_solver.cpp).
+  struct HierarchyReuse {
+    long long solves = 0;              // with this hierarchy, the set-up's own solve included
+    double first_applications = 0.0;   // preconditioner applications of the set-up's solve
+    double excess_applications = 0.0;  // summed excess of the later solves over it
+    bool last_converged = true;
+    bool refreshed = false;  // the current solve's hierarchy is reused
+  };
+  bool can_reuse_hierarchy(std::size_t particles, const ProjectionSolverSettings& settings) const;
+  void record_reuse(const KrylovResult& solved, KrylovMethod method);
+
+  HierarchyReuse reuse_;
+  long long setups_ = 0;
+  long long reused_solves_ = 0;
+  std::vector<int> base_row_of_particle_;  // the rows of the last set-up, by particle (-1: none)
+  std::vector<int> base_row_of_row_;       // this system's rows' rows in it
   KrylovWorkspace workspace_;
 };
 

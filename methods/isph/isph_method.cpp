@@ -97,6 +97,7 @@ class IsphMethod final : public Method {
     settings_.warm_start = p.boolean("warm_start");
     preconditioner_choice_ = p.string("preconditioner");
     amg_min_fluid_particles_ = static_cast<std::size_t>(p.integer("amg_min_fluid_particles"));
+    settings_.amg_reuse_budget = p.number("amg_reuse_budget");
     time_step_settings_ = time_step_settings(p, scene_.time.time_step, scene_.source);
   }
 
@@ -155,6 +156,8 @@ class IsphMethod final : public Method {
             {"wall_treatments", walls_.names()},
             {"boundary_model", walls_.boundary_name()},
             {"preconditioner", preconditioner_name(settings_.preconditioner)},
+            {"preconditioner_setups", ppe_.projection_solver().setups()},
+            {"amg_reused_solves", ppe_.projection_solver().reused_solves()},
             {"mean_iterations",
              clock_.steps() > 0 ? static_cast<double>(total_iterations_) / static_cast<double>(clock_.steps()) : 0.0},
             {"nonconverged_solves", nonconverged_solves_},
@@ -175,6 +178,7 @@ class IsphMethod final : public Method {
     out.write_size(ghosts_);
     out.write_size(ungrounded_groups_);
     clock_.save(out);
+    ppe_.projection_solver().save_state(out);
   }
 
   void restore_state(CheckpointReader& in) override {
@@ -185,6 +189,7 @@ class IsphMethod final : public Method {
     ghosts_ = in.read_size();
     ungrounded_groups_ = in.read_size();
     clock_.restore(in);
+    ppe_.projection_solver().restore_state(in, settings_.preconditioner);
     check_restored_search(in, "isph", neighbours_, samples_, walls_, acceleration_.size());
   }
 
@@ -202,6 +207,7 @@ class IsphMethod final : public Method {
     permute_neighbour_list(neighbours_, order);
     permute_wall_samples(samples_, order);
     permute_values(rest_density_field_, order);
+    ppe_.projection_solver().permute_state(order);
     walls_.permute_state(order);
   }
 
@@ -506,7 +512,7 @@ class IsphMethod final : public Method {
 // The isph block of a scene: every key with its default (the papers' values) and range.
 static std::vector<mps_lab::ParameterSpec> isph_parameters() {
   using namespace mps_lab;
-  return {
+  std::vector<ParameterSpec> parameters = {
       string_parameter("kernel", "cubic_spline", "SPH kernel (core/kernels/sph_kernels.hpp)")
           .one_of({"cubic_spline", "wendland_c2"}),
       number_parameter("smoothing_length", 1.2, "l0",
@@ -544,19 +550,14 @@ static std::vector<mps_lab::ParameterSpec> isph_parameters() {
           .one_of({"semi_implicit", "trapezoidal"}),
       boolean_parameter("clamp_negative_pressure", true,
                         "set p < 0 to 0 after the solve, fluid and wall (against the tensile instability)"),
-      string_parameter("preconditioner", "auto",
-                       "BiCGSTAB preconditioner (incomplete_factorisation: ILU(0)); auto: amg from "
-                       "amg_min_fluid_particles fluid particles on, jacobi below")
-          .one_of(preconditioner_choices()),
-      integer_parameter("amg_min_fluid_particles", kDefaultAmgMinFluidParticles,
-                        "preconditioner auto: the fluid particle count from which AMG beats Jacobi (measured)")
-          .at_least(0),
       number_parameter("solver_tolerance", 1.0e-8, "", "BiCGSTAB stops at ||b - A p|| / ||b|| below this (rows in Pa)")
           .above(0.0)
           .below(1.0),
       integer_parameter("solver_max_iterations", 1000, "BiCGSTAB iteration cap per step").at_least(1),
       boolean_parameter("warm_start", true, "start BiCGSTAB from the previous step's pressure"),
   };
+  for (ParameterSpec& spec : projection_solver_parameters("BiCGSTAB", "ILU(0)")) parameters.push_back(std::move(spec));
+  return parameters;
 }
 
 void mps_lab_register_method_isph(mps_lab::MethodRegistry& registry) {

@@ -241,6 +241,7 @@ void PressurePoissonSolver::solve_assembled(ParticleSet& particles, const Pressu
   ProjectionSolverSettings solver;
   solver.method = KrylovMethod::Bicgstab;  // the wall rows make A non-symmetric
   solver.preconditioner = settings.preconditioner;
+  solver.amg_reuse_budget = settings.amg_reuse_budget;
   solver.tolerance = settings.tolerance;
   solver.max_iterations = settings.max_iterations;
   solver.warm_start = settings.warm_start;

@@ -63,6 +63,9 @@ struct PressureSolveSettings {
   bool warm_start = true;           // start from particles.pressure
   // core/linalg/projection_solver.hpp: jacobi, incomplete_factorisation (ILU(0) here) or amg
   PreconditionerKind preconditioner = PreconditionerKind::Jacobi;
+  // AMG: preconditioner applications a reused hierarchy may cost beyond its first solve
+  // (core/linalg/projection_solver.hpp; 0: a new hierarchy for every system).
+  double amg_reuse_budget = 0.0;
 };
 
 struct PressureSolveResult {
@@ -80,6 +83,9 @@ class PressurePoissonSolver {
  public:
   // Hands `observer` to the projection solver (MethodSetup::pressure_system_observer).
   void observe(PressureSystemObserver observer) { solver_.observe(std::move(observer)); }
+  // The projection solver (checkpoints, cell order and run.json's counts of its AMG hierarchy).
+  ProjectionSolver& projection_solver() { return solver_; }
+  const ProjectionSolver& projection_solver() const { return solver_; }
 
   // Assembles and solves; writes particles.pressure of every fluid and wall particle (0 for
   // surface fluid, for walls without fluid neighbours and for ghosts). `density` as in

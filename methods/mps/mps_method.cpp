@@ -75,6 +75,7 @@ class MpsMethod final : public Method {
     settings_.warm_start = p.boolean("warm_start");
     preconditioner_choice_ = p.string("preconditioner");
     amg_min_fluid_particles_ = static_cast<std::size_t>(p.integer("amg_min_fluid_particles"));
+    settings_.amg_reuse_budget = p.number("amg_reuse_budget");
     settings_.clamp_negative = p.boolean("clamp_negative_pressure");
     read_schemes(p);
     // Loads on obstacles (MethodInfo::obstacle_loads): the reaction on wall particles, when there are both.
@@ -144,6 +145,8 @@ class MpsMethod final : public Method {
             {"wall_treatments", walls_.names()},
             {"boundary_model", walls_.boundary_name()},
             {"preconditioner", preconditioner_name(settings_.preconditioner)},
+            {"preconditioner_setups", ppe_.projection_solver().setups()},
+            {"amg_reused_solves", ppe_.projection_solver().reused_solves()},
             {"schemes", scheme_names_},
             {"ghosts_created", ghosts_},
             {"ungrounded_groups_regularised", ungrounded_groups_},
@@ -164,6 +167,7 @@ class MpsMethod final : public Method {
     out.write_size(ghosts_);
     out.write_size(ungrounded_groups_);
     out.write_int(nonconverged_solves_);
+    ppe_.projection_solver().save_state(out);
   }
 
   void restore_state(CheckpointReader& in) override {
@@ -175,6 +179,7 @@ class MpsMethod final : public Method {
     ghosts_ = in.read_size();
     ungrounded_groups_ = in.read_size();
     nonconverged_solves_ = in.read_int();
+    ppe_.projection_solver().restore_state(in, settings_.preconditioner);
     if (carries_pressure_.size() != acceleration_.size() || neighbours_.particle_count() != acceleration_.size()) {
       in.fail("mps state for " + std::to_string(carries_pressure_.size()) + " particles, the scene has " +
               std::to_string(acceleration_.size()));
@@ -214,6 +219,7 @@ class MpsMethod final : public Method {
     permute_neighbour_list(neighbours_, order);
     permute_wall_samples(samples_, order);
     permute_values(carries_pressure_, order);
+    ppe_.projection_solver().permute_state(order);
     walls_.permute_state(order);
   }
 
@@ -512,13 +518,6 @@ void mps_lab_register_method_mps(mps_lab::MethodRegistry& registry) {
                        "CG stops at ||b - A p|| / ||b|| below this (spec §3, read as relative)")
           .above(0.0)
           .below(1.0),
-      string_parameter("preconditioner", "auto",
-                       "CG preconditioner (incomplete_factorisation: IC(0)); auto: amg from amg_min_fluid_particles "
-                       "fluid particles on, jacobi below")
-          .one_of(preconditioner_choices()),
-      integer_parameter("amg_min_fluid_particles", kDefaultAmgMinFluidParticles,
-                        "preconditioner auto: the fluid particle count from which AMG beats Jacobi (measured)")
-          .at_least(0),
       boolean_parameter("warm_start", true, "start CG from the previous step's pressure"),
       boolean_parameter("min_pressure_includes_self", true, "P_min of the gradient includes particle i (K&O 1996)"),
       boolean_parameter("clamp_negative_pressure", true, "set P < 0 to 0 after the solve (spec §5.2-7)"),
@@ -530,6 +529,7 @@ void mps_lab_register_method_mps(mps_lab::MethodRegistry& registry) {
                        "bodies only, the fluid's dynamics are the same")
           .one_of({"wall_pressure", "pair_reaction", "fluid_pressure"}),
   };
+  for (ParameterSpec& spec : projection_solver_parameters("CG", "IC(0)")) info.parameters.push_back(std::move(spec));
   info.fields = {{"number_density", "", "n* at the provisional positions (spec §5.2-4)", true},
                  {"free_surface", "", "1 where n*/n0 < free_surface_threshold (P = 0)", true}};
   info.series_columns = {"number_density_error", "free_surface_particles", "ppe_unknowns", "ungrounded_groups"};

@@ -156,6 +156,7 @@ void PressurePoissonSolver::solve_assembled(ParticleSet& particles, const Pressu
   ProjectionSolverSettings solver;
   solver.method = KrylovMethod::ConjugateGradient;  // A symmetric positive definite
   solver.preconditioner = settings.preconditioner;
+  solver.amg_reuse_budget = settings.amg_reuse_budget;
   solver.tolerance = settings.tolerance;
   solver.max_iterations = settings.max_iterations;
   solver.warm_start = settings.warm_start;

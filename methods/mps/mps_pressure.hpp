@@ -35,6 +35,9 @@ struct PressureSolveSettings {
   bool warm_start = true;  // start CG from the previous pressure
   // core/linalg/projection_solver.hpp: jacobi, incomplete_factorisation (IC(0) here) or amg
   PreconditionerKind preconditioner = PreconditionerKind::Jacobi;
+  // AMG: preconditioner applications a reused hierarchy may cost beyond its first solve
+  // (core/linalg/projection_solver.hpp; 0: a new hierarchy for every system).
+  double amg_reuse_budget = 0.0;
   bool clamp_negative = true;  // spec §5.2-7
   // The Laplacian of the PPE's matrix (methods/mps/mps_schemes.hpp): spec (spec §2) or hl
   // (Khayyer & Gotoh 2010, with the radius and n0 of `laplacian`).
@@ -57,6 +60,9 @@ class PressurePoissonSolver {
  public:
   // Hands `observer` to the projection solver (MethodSetup::pressure_system_observer).
   void observe(PressureSystemObserver observer) { solver_.observe(std::move(observer)); }
+  // The projection solver (checkpoints, cell order and run.json's counts of its AMG hierarchy).
+  ProjectionSolver& projection_solver() { return solver_; }
+  const ProjectionSolver& projection_solver() const { return solver_; }
   // What it holds between steps (mps_lab bench's memory breakdown, docs/performance.md
   // "Memory"): the matrix, the assembler's slots, the unknowns' arrays and the solver's.
   MemoryBreakdown memory_breakdown() const;

@@ -7,9 +7,13 @@ Tolerances (docs/validation.md, "Wall pressure: Buchner 2002", measured at l0 = 
 the full runs, which are the same runs up to T = 3.5):
 - impact time: the record's 2.478 (read to +-0.02); the methods at H/40 arrive 0.17 to 0.35
   late (dfsph 2.676, eisph 2.663, isph 2.652, mps 2.757, wcsph 2.829: a spread of 0.18
-  between methods). |T_impact - 2.478| <= 0.45 holds the largest measured error with a margin
-  of 0.1, about half the methods' spread, and fails a sensor that never wets or an arrival
-  far off (a front twice too slow or a wrong probe height).
+  between methods). The impact time is also sensitive to perturbations at the pressure solver's
+  tolerance: mps at H/40, the same scene with runs that differ only there (AMG hierarchy reuse
+  budget 0, 4, 8, 16; CG tolerance 1e-8 or 5e-9; 2026-11-27), crosses at 2.814, 2.817, 2.817,
+  2.852, 2.940 and 2.959: the flows part at round-off and the tongue that reaches P1 is chaotic.
+  |T_impact - 2.478| <= 0.6 holds the largest of these errors (0.48) with a margin of 0.1 and
+  still fails a sensor that never wets or an arrival far off (a front twice too slow arrives
+  after T = 4.5; a wrong probe height).
 - level: mean p/(rho g H) over T in [3.0, 3.5]; the record reads 0.579 there, the methods
   at H/40 0.127 (wcsph) to 0.454 (dfsph) (eisph 0.166, isph 0.214, mps 0.164: all but dfsph
   still rising after their late impact). The band [0.06, 1.0] is half the smallest and
@@ -37,7 +41,7 @@ BINARY = os.environ.get("MPS_LAB_BINARY", os.path.join(ROOT, "build", "mps_lab")
 SCENE = os.path.join(ROOT, buchner.SCENE)
 END_T = 3.5  # T = t sqrt(g/H)
 EXPERIMENT_IMPACT = 2.478  # T, the record's first crossing of 0.1 (tests/python/test_buchner.py)
-IMPACT_TOLERANCE = 0.45
+IMPACT_TOLERANCE = 0.6
 LEVEL_WINDOW = (3.0, 3.5)
 LEVEL_BAND = (0.06, 1.0)
 
