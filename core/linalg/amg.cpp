@@ -222,7 +222,7 @@ void AmgPreconditioner::setup(const CsrMatrix& matrix) {
   base_rows_ = matrix.rows;
 }
 
-void AmgPreconditioner::refresh(const CsrMatrix& matrix, const std::vector<int>& base_row_of_row) {
+void AmgPreconditioner::refresh(const CsrMatrix& matrix, std::vector<int>& base_row_of_row) {
   if (level_count_ == 0) throw std::logic_error("AmgPreconditioner::refresh before setup");
   if (base_row_of_row.size() != static_cast<std::size_t>(matrix.rows))
     throw std::logic_error("AmgPreconditioner::refresh: one base row per row expected");
@@ -233,11 +233,11 @@ void AmgPreconditioner::refresh(const CsrMatrix& matrix, const std::vector<int>&
   }
   refreshed_ = true;
   prepare_smoother(0, matrix);
-  base_row_of_row_ = base_row_of_row;
+  base_row_of_row_.swap(base_row_of_row);
   const int rows = matrix.rows;
   row_of_base_row_.assign(static_cast<std::size_t>(base_rows_), rows);  // rows: the residual's 0 entry
   for (int r = 0; r < rows; ++r) {
-    const int base = base_row_of_row[static_cast<std::size_t>(r)];
+    const int base = base_row_of_row_[static_cast<std::size_t>(r)];
     if (base >= 0 && base < base_rows_) row_of_base_row_[static_cast<std::size_t>(base)] = r;
   }
 }
@@ -791,6 +791,7 @@ MemoryBreakdown AmgPreconditioner::memory_breakdown() const {
   out.emplace_back("coarse_levels", coarse);
   out.emplace_back("galerkin_scratch", product_.held_bytes());  // A P of the finest level, kept for the next setup
   out.emplace_back("aggregation_scratch", held_bytes(aggregate_, strong_, visit_order_, visited_));
+  out.emplace_back("reuse_rows", held_bytes(base_row_of_row_, row_of_base_row_));  // refresh()
   std::size_t scratch = 0;
   for (const auto& own : thread_scratch_) scratch += held_bytes(own.column, own.position, own.value);
   out.emplace_back("product_thread_scratch", scratch);

@@ -118,8 +118,10 @@ class AmgPreconditioner final : public Preconditioner {
   // positive definite `matrix` (R = P^T, coarse operators of the base SPD, the smoother's bound
   // from `matrix`): a valid preconditioner, whose quality decreases as `matrix` departs from
   // the base (docs/performance.md, "A reused hierarchy"). A single-level hierarchy is set up
-  // again instead. Keeps a pointer to `matrix`, as setup().
-  void refresh(const CsrMatrix& matrix, const std::vector<int>& base_row_of_row);
+  // again instead. Keeps a pointer to `matrix`, as setup(). Takes the contents of
+  // base_row_of_row (swapped with its own array of the last refresh: nothing is allocated once
+  // the sizes have been seen).
+  void refresh(const CsrMatrix& matrix, std::vector<int>& base_row_of_row);
   // Checkpoints: what a refresh() after restore_state needs to give the bits of a refresh()
   // without the interruption (the base's transfer operators, coarse levels and coarsest
   // factors; the finest smoother is rebuilt by refresh() from its matrix). restore_state is

@@ -176,6 +176,8 @@ MemoryBreakdown pressure_solve_breakdown(const CsrMatrix& matrix, std::size_t as
 MemoryBreakdown ProjectionSolver::memory_breakdown() const {
   MemoryBreakdown out;
   out.emplace_back("krylov_vectors", held_bytes(solution_) + workspace_.held_bytes());
+  if (!base_row_of_particle_.empty())
+    out.emplace_back("amg_reuse_rows", held_bytes(base_row_of_particle_, base_row_of_row_));
   if (preconditioner_) append_breakdown(out, preconditioner_name(kind_), preconditioner_->memory_breakdown());
   return out;
 }
