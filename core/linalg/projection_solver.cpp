@@ -95,13 +95,12 @@ void ProjectionSolver::prepare_preconditioner(const CsrMatrix& matrix, const std
     kind_ = kind;
     reuse_ = HierarchyReuse{};
   }
-  auto* amg = dynamic_cast<AmgPreconditioner*>(preconditioner_.get());
+  auto* amg = kind_ == PreconditionerKind::Amg ? static_cast<AmgPreconditioner*>(preconditioner_.get()) : nullptr;
   if (amg != nullptr && can_reuse_hierarchy(particles, settings)) {
     base_row_of_row_.resize(particle_of.size());
     for (std::size_t r = 0; r < particle_of.size(); ++r)
       base_row_of_row_[r] = base_row_of_particle_[static_cast<std::size_t>(particle_of[r])];
     amg->refresh(matrix, base_row_of_row_);
-    reuse_.refreshed = true;
     ++reused_solves_;
     return;
   }
@@ -130,8 +129,8 @@ void ProjectionSolver::record_reuse(const KrylovResult& solved, KrylovMethod met
 void ProjectionSolver::save_state(CheckpointWriter& out) const {
   out.write_int(setups_);
   out.write_int(reused_solves_);
-  const auto* amg = dynamic_cast<const AmgPreconditioner*>(preconditioner_.get());
-  const bool kept = amg != nullptr && !base_row_of_particle_.empty() && reuse_.solves > 0;
+  const bool kept =
+      kind_ == PreconditionerKind::Amg && preconditioner_ && !base_row_of_particle_.empty() && reuse_.solves > 0;
   out.write_bool(kept);
   if (!kept) return;
   out.write_int(reuse_.solves);
@@ -141,7 +140,7 @@ void ProjectionSolver::save_state(CheckpointWriter& out) const {
   std::vector<std::uint32_t> rows(base_row_of_particle_.size());
   for (std::size_t i = 0; i < rows.size(); ++i) rows[i] = static_cast<std::uint32_t>(base_row_of_particle_[i] + 1);
   out.write_u32s(rows);
-  amg->save_state(out);
+  static_cast<const AmgPreconditioner&>(*preconditioner_).save_state(out);
 }
 
 void ProjectionSolver::restore_state(CheckpointReader& in, PreconditionerKind kind) {

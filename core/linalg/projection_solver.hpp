@@ -156,7 +156,6 @@ class ProjectionSolver {
     double first_applications = 0.0;   // preconditioner applications of the set-up's solve
     double excess_applications = 0.0;  // summed excess of the later solves over it
     bool last_converged = true;
-    bool refreshed = false;  // the current solve's hierarchy is reused
   };
   bool can_reuse_hierarchy(std::size_t particles, const ProjectionSolverSettings& settings) const;
   void record_reuse(const KrylovResult& solved, KrylovMethod method);
