@@ -22,8 +22,10 @@ std::vector<std::vector<int>> ungrounded_groups(const Eigen::SparseMatrix<double
 // (the remedy of the public MPS-Basic code: it pins the group's mean pressure near zero);
 // rows from `row_limit` on (ISPH's wall rows) are left as they are. The matrix must store the
 // diagonal first in each row (CsrAssembler::finish with diagonal_first). Returns the number
-// of groups.
-std::size_t pin_ungrounded_groups(CsrMatrix& matrix, const std::vector<char>& grounded, std::size_t row_limit);
+// of groups. `reached` is scratch (one byte per row): the common case, every row connected to a
+// grounded one, is decided by a few in-order sweeps and allocates nothing once it has grown.
+std::size_t pin_ungrounded_groups(CsrMatrix& matrix, const std::vector<char>& grounded, std::size_t row_limit,
+                                  std::vector<char>& reached);
 
 // The unknowns <-> the particles' pressures, row r being particle particle_of[r] (parallel,
 // each entry written once):

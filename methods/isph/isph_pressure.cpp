@@ -13,7 +13,8 @@ Eigen::SparseMatrix<double, Eigen::RowMajor> PressurePoissonSolver::matrix() con
 
 MemoryBreakdown PressurePoissonSolver::memory_breakdown() const {
   return pressure_solve_breakdown(matrix_, assembler_.held_bytes(),
-                                  held_bytes(row_of_, particle_of_, grounded_, rhs_, surface_factor_), solver_);
+                                  held_bytes(row_of_, particle_of_, grounded_, reached_, rhs_, surface_factor_),
+                                  solver_);
 }
 
 // The entries row_of_[i]'s row can have: the diagonal and one per neighbour (a wall row: per
@@ -230,7 +231,7 @@ PressureSolveResult PressurePoissonSolver::assemble(ParticleSet& particles, cons
   // fluid rows sum to zero and wall rows are weighted averages. As in the mps method (and the
   // public MPS-Basic code) the diagonal of such a group's fluid rows is doubled, which pins its
   // pressure level near zero.
-  result.ungrounded_groups = pin_ungrounded_groups(matrix_, grounded_, fluid_rows_);
+  result.ungrounded_groups = pin_ungrounded_groups(matrix_, grounded_, fluid_rows_, reached_);
   return result;
 }
 

@@ -147,6 +147,7 @@ class PressurePoissonSolver {
   std::vector<int> particle_of_;
   std::size_t fluid_rows_ = 0;     // rows [0, fluid_rows_) are fluid, the rest walls
   std::vector<char> grounded_;     // per unknown: touches a Dirichlet particle
+  std::vector<char> reached_;      // per unknown: connected to a grounded one (pin_ungrounded_groups scratch)
   CsrInPlaceAssembler assembler_;  // rows straight into matrix_ (no padded copy beside it)
   CsrMatrix matrix_;
   std::vector<double> rhs_;  // Pa

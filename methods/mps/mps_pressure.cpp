@@ -10,8 +10,8 @@ namespace mps_lab::mps {
 Eigen::SparseMatrix<double, Eigen::RowMajor> PressurePoissonSolver::matrix() const { return to_eigen(matrix_); }
 
 MemoryBreakdown PressurePoissonSolver::memory_breakdown() const {
-  return pressure_solve_breakdown(matrix_, assembler_.held_bytes(), held_bytes(row_of_, particle_of_, grounded_, rhs_),
-                                  solver_);
+  return pressure_solve_breakdown(matrix_, assembler_.held_bytes(),
+                                  held_bytes(row_of_, particle_of_, grounded_, reached_, rhs_), solver_);
 }
 
 int PressurePoissonSolver::row_count(const RowInputs& in, std::size_t i) const {
@@ -147,7 +147,7 @@ PressureSolveResult PressurePoissonSolver::assemble(ParticleSet& particles, cons
   // A group of unknowns with no Dirichlet row (core/linalg/pressure_system.hpp) makes A singular
   // (pressure defined up to a constant). The remedy of the public MPS-Basic code (Kondo lab)
   // is kept: double the diagonal of such a group's rows, which pins its mean pressure near zero.
-  result.ungrounded_groups = pin_ungrounded_groups(matrix_, grounded_, particle_of_.size());
+  result.ungrounded_groups = pin_ungrounded_groups(matrix_, grounded_, particle_of_.size(), reached_);
   return result;
 }
 

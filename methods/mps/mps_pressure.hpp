@@ -127,6 +127,7 @@ class PressurePoissonSolver {
   std::vector<int> row_of_;  // particle -> unknown index, -1 if not an unknown
   std::vector<int> particle_of_;
   std::vector<char> grounded_;     // per unknown: touches a Dirichlet particle
+  std::vector<char> reached_;      // per unknown: connected to a grounded one (pin_ungrounded_groups scratch)
   CsrInPlaceAssembler assembler_;  // rows straight into matrix_ (no padded copy beside it)
   CsrMatrix matrix_;
   std::vector<double> rhs_;  // Pa/m^2
