@@ -129,8 +129,9 @@ class AmgPreconditioner final : public Preconditioner {
   void save_state(CheckpointWriter& out) const;
   void restore_state(CheckpointReader& in);
   // result = M^-1 residual (one V-cycle from zero), for residual and result of matrix.rows
-  // entries (distinct arrays).
+  // entries (distinct arrays); apply_in_team by every thread of the caller's region together.
   void apply(const double* residual, double* result) const override;
+  void apply_in_team(const double* residual, double* result) const override;
 
   // The hierarchy of the last setup(), finest first (for reports and tests).
   std::vector<AmgLevelInfo> levels() const;
@@ -158,7 +159,8 @@ class AmgPreconditioner final : public Preconditioner {
   void solve_coarsest(const double* rhs, double* solution) const;
   void smooth(std::size_t level, const double* rhs, double* solution, bool zero_initial) const;
   void cycle(std::size_t level, const double* rhs, double* solution) const;
-  void restrict_residual(const Level& current, const double* residual, bool mapped, double* coarse_rhs) const;
+  void restrict_residual(const Level& current, const double* residual, bool mapped, int fine_rows,
+                         double* coarse_rhs) const;
   void prolong_correction(const Level& current, const double* coarse, bool mapped, int rows, double* solution) const;
 
   AmgOptions options_;

@@ -23,7 +23,7 @@ struct BlockRange {
 };
 BlockRange block_range(int block, int rows) { return {block * kBlockRows, std::min(rows, (block + 1) * kBlockRows)}; }
 
-double sum_in_order(const std::vector<double>& partial, int blocks) {
+double sum_in_order(const double* partial, int blocks) {
   double total = 0.0;
   for (int b = 0; b < blocks; ++b) total += partial[static_cast<std::size_t>(b)];
   return total;
@@ -47,7 +47,7 @@ inline double row_product(const double* value, const int* column, const double* 
 }
 
 // Two blocked sums at once: partial[b] and partial[blocks + b], each added in block order.
-std::pair<double, double> sum_pairs_in_order(const std::vector<double>& partial, int blocks) {
+std::pair<double, double> sum_pairs_in_order(const double* partial, int blocks) {
   double first = 0.0, second = 0.0;
   for (int b = 0; b < blocks; ++b) {
     first += partial[static_cast<std::size_t>(b)];
@@ -56,45 +56,56 @@ std::pair<double, double> sum_pairs_in_order(const std::vector<double>& partial,
   return {first, second};
 }
 
+// The loops below come twice: "_in_team", an orphaned worksharing loop for the threads of the
+// caller's region (the conjugate-gradient iterations run in one), which returns after its
+// barrier with the block sums in `partial`; and a function with a region of its own that adds them.
+
 // One pass over the rows of A x in fixed blocks: row_sum = (A x)_r is handed to
 // visit(r, row_sum, first, second), which stores what it needs and adds the row's terms to
 // two sums; the block sums go to partial[b] and partial[blocks + b] (partial holds 2 blocks
 // entries) and are added in block order (the same bits for any thread count).
 template <typename Visit>
-std::pair<double, double> blocked_row_products(const CsrMatrix& matrix, const double* x, std::vector<double>& partial,
-                                               Visit visit) {
+void row_products_in_team(const CsrMatrix& matrix, const double* x, double* partial, Visit visit) {
   const int rows = matrix.rows;
   const int blocks = block_count(rows);
   const int* start = matrix.row_start.data();
   const int* column = matrix.column.data();
   const double* value = matrix.value.data();
-#pragma omp parallel for schedule(static)
+#pragma omp for schedule(static)
   for (int b = 0; b < blocks; ++b) {
     const BlockRange range = block_range(b, rows);
     double first = 0.0, second = 0.0;
     for (int r = range.begin; r < range.end; ++r) {
       visit(r, row_product(value, column, x, start[r], start[r + 1]), first, second);
     }
-    partial[static_cast<std::size_t>(b)] = first;
-    partial[static_cast<std::size_t>(blocks + b)] = second;
+    partial[b] = first;
+    partial[blocks + b] = second;
   }
-  return sum_pairs_in_order(partial, blocks);
 }
 
-// out = A x, returns shadow . out (both in one pass over the rows).
+template <typename Visit>
+std::pair<double, double> blocked_row_products(const CsrMatrix& matrix, const double* x, std::vector<double>& partial,
+                                               Visit visit) {
+#pragma omp parallel
+  row_products_in_team(matrix, x, partial.data(), visit);
+  return sum_pairs_in_order(partial.data(), block_count(matrix.rows));
+}
+
+// out = A x, shadow . out in partial's first blocks entries (both in one pass over the rows).
+void multiply_dot_in_team(const CsrMatrix& matrix, const double* x, const double* shadow, double* out,
+                          double* partial) {
+  row_products_in_team(matrix, x, partial, [&](int r, double row_sum, double& sum, double&) {
+    out[r] = row_sum;
+    sum += shadow[r] * row_sum;
+  });
+}
+
+// out = A x, returns shadow . out.
 double multiply_dot_with(const CsrMatrix& matrix, const double* x, const double* shadow, double* out,
                          std::vector<double>& partial) {
-  return blocked_row_products(matrix, x, partial,
-                              [&](int r, double row_sum, double& sum, double&) {
-                                out[r] = row_sum;
-                                sum += shadow[r] * row_sum;
-                              })
-      .first;
-}
-
-// out = A x, returns x . out.
-double multiply_dot(const CsrMatrix& matrix, const double* x, double* out, std::vector<double>& partial) {
-  return multiply_dot_with(matrix, x, x, out, partial);
+#pragma omp parallel
+  multiply_dot_in_team(matrix, x, shadow, out, partial.data());
+  return sum_in_order(partial.data(), block_count(matrix.rows));
 }
 
 // residual = rhs - A x, returns ||residual||^2.
@@ -109,16 +120,22 @@ double residual_norm2(const CsrMatrix& matrix, const double* rhs, const double* 
       .first;
 }
 
-double blocked_dot(const double* a, const double* b, int rows, std::vector<double>& partial) {
+// a . b in partial's first blocks entries.
+void dot_in_team(const double* a, const double* b, int rows, double* partial) {
   const int blocks = block_count(rows);
-#pragma omp parallel for schedule(static)
+#pragma omp for schedule(static)
   for (int block = 0; block < blocks; ++block) {
     const BlockRange range = block_range(block, rows);
     double sum = 0.0;
     for (int r = range.begin; r < range.end; ++r) sum += a[r] * b[r];
-    partial[static_cast<std::size_t>(block)] = sum;
+    partial[block] = sum;
   }
-  return sum_in_order(partial, blocks);
+}
+
+double blocked_dot(const double* a, const double* b, int rows, std::vector<double>& partial) {
+#pragma omp parallel
+  dot_in_team(a, b, rows, partial.data());
+  return sum_in_order(partial.data(), block_count(rows));
 }
 
 }  // namespace
@@ -142,10 +159,20 @@ void JacobiPreconditioner::setup(const CsrMatrix& matrix) {
   }
 }
 
+void Preconditioner::apply_in_team(const double* residual, double* result) const {
+#pragma omp single
+  apply(residual, result);
+}
+
 void JacobiPreconditioner::apply(const double* residual, double* result) const {
+#pragma omp parallel
+  apply_in_team(residual, result);
+}
+
+void JacobiPreconditioner::apply_in_team(const double* residual, double* result) const {
   const auto rows = static_cast<int>(inverse_diagonal_.size());
   const double* inverse = inverse_diagonal_.data();
-#pragma omp parallel for schedule(static)
+#pragma omp for schedule(static)
   for (int r = 0; r < rows; ++r) result[r] = inverse[r] * residual[r];
 }
 
@@ -248,6 +275,11 @@ void IncompleteLuPreconditioner::setup(const CsrMatrix& matrix) {
 }
 
 void IncompleteLuPreconditioner::apply(const double* residual, double* result) const {
+#pragma omp parallel
+  apply_in_team(residual, result);
+}
+
+void IncompleteLuPreconditioner::apply_in_team(const double* residual, double* result) const {
   const auto blocks = static_cast<int>(block_start_.size()) - 1;
   const int* start = row_start_.data();
   const int* column = column_.data();
@@ -256,7 +288,7 @@ void IncompleteLuPreconditioner::apply(const double* residual, double* result) c
   const double* inverse_pivot = inverse_pivot_.data();
   // Two partial sums per row halve the chain of dependent additions (the sweeps are bound by
   // latency, not by memory).
-#pragma omp parallel for schedule(static, 1)
+#pragma omp for schedule(static, 1)
   for (int b = 0; b < blocks; ++b) {
     const int first = block_start_[static_cast<std::size_t>(b)], last = block_start_[static_cast<std::size_t>(b) + 1];
     for (int r = first; r < last; ++r) {  // L y = residual (unit lower triangle)
@@ -295,12 +327,12 @@ KrylovResult zero_solution(double* x, int rows) {
 }
 
 // One CG update: x += alpha p, r -= alpha q, and with a Jacobi preconditioner (inverse_diagonal
-// not null) z = D^-1 r, in one pass. partial[b] = the block's ||r||^2 terms, partial[blocks + b]
-// its r.z terms (0 without Jacobi). Returns ||r||^2.
-double cg_update(double alpha, const double* p, const double* q, const double* inverse_diagonal, int rows, double* x,
-                 double* r, double* z, std::vector<double>& partial) {
+// not null) z = D^-1 r, in one pass of the team. partial[b] = the block's ||r||^2 terms,
+// partial[blocks + b] its r.z terms (0 without Jacobi).
+void cg_update_in_team(double alpha, const double* p, const double* q, const double* inverse_diagonal, int rows,
+                       double* x, double* r, double* z, double* partial) {
   const int blocks = block_count(rows);
-#pragma omp parallel for schedule(static)
+#pragma omp for schedule(static)
   for (int b = 0; b < blocks; ++b) {
     const BlockRange range = block_range(b, rows);
     double rr_sum = 0.0, rz_sum = 0.0;
@@ -322,14 +354,18 @@ double cg_update(double alpha, const double* p, const double* q, const double* i
         rr_sum += ri * ri;
       }
     }
-    partial[static_cast<std::size_t>(b)] = rr_sum;
-    partial[static_cast<std::size_t>(blocks + b)] = rz_sum;
+    partial[b] = rr_sum;
+    partial[blocks + b] = rz_sum;
   }
-  return sum_in_order(partial, blocks);
 }
 
 // The CG iterations from the residual r = b - A x held in the workspace (p = z = M^-1 r),
-// until the recurrence residual is below `threshold` or the iteration budget is spent.
+// until the recurrence residual is below `threshold` or the iteration budget is spent. They
+// run in one parallel region (a barrier per loop, ~0.25 us, where a region per loop cost
+// ~0.6 us: about 20 loops per iteration with AMG). Every thread adds the block sums itself, in
+// block order, so all take the same branch; each reduction has its own third of the partial
+// sums, so no thread overwrites sums another is still adding (a barrier lies between a
+// reduction's reads and its next writes).
 void cg_iterations(const CsrMatrix& matrix, double* x, const Preconditioner& preconditioner,
                    const double* inverse_diagonal, double threshold, long long max_iterations, KrylovWorkspace& work,
                    KrylovResult& result) {
@@ -339,27 +375,40 @@ void cg_iterations(const CsrMatrix& matrix, double* x, const Preconditioner& pre
   double* p = work.direction.data();
   double* q = work.product.data();
   double* z = work.preconditioned.data();
-  preconditioner.apply(r, z);
-  double rz = blocked_dot(r, z, rows, work.partial);
-  std::copy(z, z + rows, p);
-  while (result.iterations < max_iterations) {
-    const double pq = multiply_dot(matrix, p, q, work.partial);  // q = A p
-    const double alpha = rz / pq;
-    ++result.iterations;
-    const double recurrence_norm2 = cg_update(alpha, p, q, inverse_diagonal, rows, x, r, z, work.partial);
-    if (!(recurrence_norm2 >= threshold)) break;  // below the tolerance (or NaN: stop, reported below)
-    double rz_new = 0.0;
-    if (inverse_diagonal != nullptr) {
-      for (int b = 0; b < blocks; ++b) rz_new += work.partial[static_cast<std::size_t>(blocks + b)];
-    } else {
-      preconditioner.apply(r, z);
-      rz_new = blocked_dot(r, z, rows, work.partial);
+  double* pq_partial = work.partial.data();
+  double* update_partial = pq_partial + 2 * blocks;
+  double* rz_partial = update_partial + 2 * blocks;
+  long long iterations_done = result.iterations;
+#pragma omp parallel
+  {
+    long long iterations = iterations_done;
+    preconditioner.apply_in_team(r, z);
+    dot_in_team(r, z, rows, rz_partial);
+    double rz = sum_in_order(rz_partial, blocks);
+#pragma omp for schedule(static)
+    for (int i = 0; i < rows; ++i) p[i] = z[i];
+    while (iterations < max_iterations) {
+      multiply_dot_in_team(matrix, p, p, q, pq_partial);  // q = A p
+      const double alpha = rz / sum_in_order(pq_partial, blocks);
+      ++iterations;
+      cg_update_in_team(alpha, p, q, inverse_diagonal, rows, x, r, z, update_partial);
+      const auto [recurrence_norm2, jacobi_rz] = sum_pairs_in_order(update_partial, blocks);
+      if (!(recurrence_norm2 >= threshold)) break;  // below the tolerance (or NaN: stop, reported below)
+      double rz_new = jacobi_rz;
+      if (inverse_diagonal == nullptr) {
+        preconditioner.apply_in_team(r, z);
+        dot_in_team(r, z, rows, rz_partial);
+        rz_new = sum_in_order(rz_partial, blocks);
+      }
+      const double beta = rz_new / rz;
+      rz = rz_new;
+#pragma omp for schedule(static)
+      for (int i = 0; i < rows; ++i) p[i] = z[i] + beta * p[i];
     }
-    const double beta = rz_new / rz;
-    rz = rz_new;
-#pragma omp parallel for schedule(static)
-    for (int i = 0; i < rows; ++i) p[i] = z[i] + beta * p[i];
+#pragma omp single nowait
+    iterations_done = iterations;
   }
+  result.iterations = iterations_done;
 }
 
 }  // namespace
@@ -372,8 +421,8 @@ KrylovResult conjugate_gradient(const CsrMatrix& matrix, const double* rhs, doub
   const int blocks = block_count(rows);
   for (auto* vector : {&work.residual, &work.direction, &work.product, &work.preconditioned})
     ensure_size(*vector, rows);
-  if (work.partial.size() < 2 * static_cast<std::size_t>(blocks))
-    work.partial.resize(2 * static_cast<std::size_t>(blocks));
+  if (work.partial.size() < 6 * static_cast<std::size_t>(blocks))  // cg_iterations: three pairs
+    work.partial.resize(6 * static_cast<std::size_t>(blocks));
 
   const double rhs_norm2 = blocked_dot(rhs, rhs, rows, work.partial);
   if (rhs_norm2 == 0.0) return zero_solution(x, rows);
@@ -448,7 +497,7 @@ std::pair<double, double> bicgstab_update(double alpha, double omega, const Bicg
     partial[static_cast<std::size_t>(b)] = rr;
     partial[static_cast<std::size_t>(blocks + b)] = r0r;
   }
-  return sum_pairs_in_order(partial, blocks);  // ||r||^2, r0 . r
+  return sum_pairs_in_order(partial.data(), blocks);  // ||r||^2, r0 . r
 }
 
 // One start of BiCGSTAB from the residual r = b - A x (norm2 = ||r||^2): shadow residual

@@ -30,8 +30,14 @@ class Preconditioner {
   virtual ~Preconditioner() = default;
   // Prepares M for `matrix` (called once per assembled matrix, before any apply).
   virtual void setup(const CsrMatrix& matrix) = 0;
-  // result = M^-1 residual (arrays of matrix.rows entries, not aliased).
+  // result = M^-1 residual (arrays of matrix.rows entries, not aliased), called outside any
+  // parallel region.
   virtual void apply(const double* residual, double* result) const = 0;
+  // The same, called by every thread of an enclosing parallel region together (conjugate
+  // gradients run their iterations in one region): the loops are shared with orphaned
+  // worksharing constructs and the call returns after a barrier. The default has one thread
+  // call apply(), whose own parallel loops then run on that thread only.
+  virtual void apply_in_team(const double* residual, double* result) const;
   // The heap it holds between setups (core/base/memory_bytes.hpp).
   virtual MemoryBreakdown memory_breakdown() const { return {}; }
 };
@@ -41,6 +47,7 @@ class JacobiPreconditioner final : public Preconditioner {
  public:
   void setup(const CsrMatrix& matrix) override;
   void apply(const double* residual, double* result) const override;
+  void apply_in_team(const double* residual, double* result) const override;
   const std::vector<double>& inverse_diagonal() const { return inverse_diagonal_; }
   MemoryBreakdown memory_breakdown() const override { return {{"inverse_diagonal", held_bytes(inverse_diagonal_)}}; }
 
@@ -59,6 +66,7 @@ class IncompleteLuPreconditioner final : public Preconditioner {
   explicit IncompleteLuPreconditioner(int block_count = 1) : block_count_(block_count < 1 ? 1 : block_count) {}
   void setup(const CsrMatrix& matrix) override;
   void apply(const double* residual, double* result) const override;
+  void apply_in_team(const double* residual, double* result) const override;
   MemoryBreakdown memory_breakdown() const override {
     return {{"factors", held_bytes(row_start_, column_, diagonal_, value_, inverse_pivot_, block_start_, position_)}};
   }
