@@ -239,3 +239,66 @@ TEST_CASE("Krylov solvers give the same bits on 1 and 2 threads", "[krylov]") {
   omp_set_num_threads(threads_before);
   CHECK(solutions[0] == solutions[1]);
 }
+
+namespace {
+
+// A preconditioner written as a user would, with apply() alone (a serial loop): conjugate
+// gradients run their iterations in one parallel region and reach it through the default
+// apply_in_team, which lets one thread of the team call apply().
+class SerialDiagonal final : public Preconditioner {
+ public:
+  void setup(const CsrMatrix& matrix) override {
+    inverse_.assign(static_cast<std::size_t>(matrix.rows), 0.0);
+    for (int r = 0; r < matrix.rows; ++r)
+      inverse_[static_cast<std::size_t>(r)] = 1.0 / matrix.value[matrix.row_start[r]];
+  }
+  void apply(const double* residual, double* result) const override {
+    for (std::size_t r = 0; r < inverse_.size(); ++r) result[r] = inverse_[r] * residual[r];
+  }
+
+ private:
+  std::vector<double> inverse_;  // 1 / a_rr (the grid operators store the diagonal first)
+};
+
+}  // namespace
+
+TEST_CASE("conjugate gradients in one parallel region: a preconditioner with apply() alone, and ILU(0) in the team",
+          "[krylov]") {
+  // The serial diagonal is the Jacobi preconditioner computed by other code: the same z = D^-1 r
+  // and, through the team's dot product, the same r.z block sums as Jacobi's fused update, so
+  // the bits must be Jacobi's. ILU(0) shares its blocks among the team (apply_in_team): the bits
+  // must not depend on the thread count.
+  const CsrMatrix spd = grid_operator(60, 0.0);
+  const std::vector<double> b = random_vector(spd.rows, 11);
+  const int threads_before = omp_get_max_threads();
+  for (int threads : {1, 2}) {
+    omp_set_num_threads(threads);
+    KrylovWorkspace workspace;
+    JacobiPreconditioner jacobi;
+    SerialDiagonal serial;
+    jacobi.setup(spd);
+    serial.setup(spd);
+    std::vector<double> x_jacobi(b.size(), 0.0), x_serial(b.size(), 0.0);
+    const KrylovResult with_jacobi =
+        conjugate_gradient(spd, b.data(), x_jacobi.data(), jacobi, {1e-10, 1000}, workspace);
+    const KrylovResult with_serial =
+        conjugate_gradient(spd, b.data(), x_serial.data(), serial, {1e-10, 1000}, workspace);
+    INFO(threads << " threads: " << with_jacobi.iterations << " and " << with_serial.iterations << " iterations");
+    CHECK(with_serial.converged);
+    CHECK(with_serial.iterations == with_jacobi.iterations);
+    CHECK(x_serial == x_jacobi);
+  }
+  std::vector<std::vector<double>> ilu_solutions;
+  for (int threads : {1, 2}) {
+    omp_set_num_threads(threads);
+    KrylovWorkspace workspace;
+    IncompleteLuPreconditioner ilu(4);
+    ilu.setup(spd);
+    std::vector<double> x(b.size(), 0.0);
+    CHECK(conjugate_gradient(spd, b.data(), x.data(), ilu, {1e-10, 1000}, workspace).converged);
+    CHECK(relative_residual(spd, b, x) < 1e-10 + kResidualRoundOff);
+    ilu_solutions.push_back(x);
+  }
+  omp_set_num_threads(threads_before);
+  CHECK(ilu_solutions[0] == ilu_solutions[1]);
+}
