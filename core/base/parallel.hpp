@@ -15,14 +15,6 @@ namespace mps_lab {
 
 constexpr std::size_t kDeterministicBlock = 4096;  // entries per partial sum
 
-// Particles per chunk of the particle loops, `schedule(static, kParticleChunk)`: the threads take
-// the chunks in turn, so each thread's share holds about as many fluid, wall and surface
-// particles as the others' wherever the cell order puts them (with contiguous halves, the first
-// thread's held the bed's wall layers, which the fluid loops skip: on mps's dam break at
-// l0 = 0.005 m the second thread did 5-15 % more of each loop's work and the first waited).
-// Each particle is written by one thread whatever the schedule: the bits do not change.
-constexpr int kParticleChunk = 64;
-
 // sum_{i < n} term(i), the same bits for any thread count. `term` must be safe to call from
 // several threads at once.
 template <typename Term>

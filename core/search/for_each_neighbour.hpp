@@ -14,7 +14,6 @@
 #include <cstdint>
 #include <type_traits>
 
-#include "core/base/parallel.hpp"
 #include "core/base/particles.hpp"
 #include "core/search/neighbour_search.hpp"
 #include "core/walls/wall_samples.hpp"
@@ -57,7 +56,7 @@ inline void for_each_neighbour(const WallSampleList& samples, std::size_t i, Vis
 template <typename Visit>
 inline void for_each_fluid_particle(const ParticleSet& particles, Visit&& visit) {
   const auto n = static_cast<std::ptrdiff_t>(particles.size());
-#pragma omp parallel for schedule(static, kParticleChunk)
+#pragma omp parallel for schedule(static)
   for (std::ptrdiff_t i = 0; i < n; ++i) {
     if (particles.type[i] != ParticleType::Fluid) continue;
     visit(i);

@@ -3,7 +3,6 @@
 // moves more than CFL l0 in a step.
 #include <cmath>
 
-#include "core/base/parallel.hpp"
 #include "core/io/scene.hpp"
 #include "core/walls/wall_treatment.hpp"
 
@@ -20,7 +19,7 @@ class CflVelocityClamp final : public WallTreatment {
     const double v_max = cfl_ * spacing_ / context.dt;  // m/s
     const auto n = static_cast<std::ptrdiff_t>(particles.size());
     std::size_t limited = 0;
-#pragma omp parallel for schedule(static, kParticleChunk) reduction(+ : limited)
+#pragma omp parallel for schedule(static) reduction(+ : limited)
     for (std::ptrdiff_t i = 0; i < n; ++i) {
       if (particles.type[i] != ParticleType::Fluid) continue;
       const double speed = particles.velocity[i].norm();

@@ -10,7 +10,6 @@
 #include <cmath>
 #include <vector>
 
-#include "core/base/parallel.hpp"
 #include "core/io/scene.hpp"
 #include "core/walls/wall_treatment.hpp"
 
@@ -29,7 +28,7 @@ class ParticleCollision final : public WallTreatment {
     before_ = particles.velocity;
     const double distance2 = distance_ * distance_;
     const auto n = static_cast<std::ptrdiff_t>(particles.size());
-#pragma omp parallel for schedule(static, kParticleChunk)
+#pragma omp parallel for schedule(static)
     for (std::ptrdiff_t i = 0; i < n; ++i) {
       if (particles.type[i] != ParticleType::Fluid) continue;
       Vec2 change = Vec2::Zero();

@@ -12,7 +12,6 @@
 #include <algorithm>
 #include <vector>
 
-#include "core/base/parallel.hpp"
 #include "core/io/scene.hpp"
 #include "core/walls/obstacle_membership.hpp"
 #include "core/walls/wall_polygon.hpp"
@@ -79,7 +78,7 @@ class WallPositionClamp final : public WallTreatment {
 
   void clamp(ParticleSet& particles) const {
     const auto n = static_cast<std::ptrdiff_t>(particles.size());
-#pragma omp parallel for schedule(static, kParticleChunk)
+#pragma omp parallel for schedule(static)
     for (std::ptrdiff_t i = 0; i < n; ++i) {
       if (particles.type[i] != ParticleType::Fluid) continue;
       Vec2& x = particles.position[i];
@@ -131,7 +130,7 @@ class WallPositionClamp final : public WallTreatment {
   // Each fluid particle out of the moving obstacles, in the frame of the obstacle's motion.
   void clamp_moving(ParticleSet& particles, const std::vector<MovingObstacle>& placed) const {
     const auto n = static_cast<std::ptrdiff_t>(particles.size());
-#pragma omp parallel for schedule(static, kParticleChunk)
+#pragma omp parallel for schedule(static)
     for (std::ptrdiff_t i = 0; i < n; ++i) {
       if (particles.type[i] != ParticleType::Fluid) continue;
       Vec2& x = particles.position[i];

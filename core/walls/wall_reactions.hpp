@@ -8,7 +8,6 @@
 #include <cstdint>
 #include <vector>
 
-#include "core/base/parallel.hpp"
 #include "core/base/particles.hpp"
 #include "core/search/for_each_neighbour.hpp"
 #include "core/search/neighbour_search.hpp"
@@ -23,7 +22,7 @@ void add_wall_reactions(const ParticleSet& particles, const NeighbourList& neigh
                         std::vector<Vec2>& reaction) {
   reaction.resize(particles.size(), Vec2::Zero());
   const auto n = static_cast<std::ptrdiff_t>(particles.size());
-#pragma omp parallel for schedule(static, kParticleChunk)
+#pragma omp parallel for schedule(static)
   for (std::ptrdiff_t j = 0; j < n; ++j) {
     if (particles.type[j] != ParticleType::Wall) continue;
     Vec2 sum = Vec2::Zero();

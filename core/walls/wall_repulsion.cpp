@@ -6,7 +6,6 @@
 // model of wall samples (core/walls/wall_samples.hpp) the samples push as wall particles do.
 #include <cmath>
 
-#include "core/base/parallel.hpp"
 #include "core/io/scene.hpp"
 #include "core/walls/wall_treatment.hpp"
 
@@ -24,7 +23,7 @@ class WallRepulsion final : public WallTreatment {
     auto& particles = context.particles;
     const NeighbourList& neighbours = *context.neighbours;
     const auto n = static_cast<std::ptrdiff_t>(particles.size());
-#pragma omp parallel for schedule(static, kParticleChunk)
+#pragma omp parallel for schedule(static)
     for (std::ptrdiff_t i = 0; i < n; ++i) {
       if (particles.type[i] != ParticleType::Fluid) continue;
       Vec2 push = Vec2::Zero();

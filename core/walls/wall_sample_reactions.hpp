@@ -18,7 +18,6 @@
 #include <cstdint>
 #include <vector>
 
-#include "core/base/parallel.hpp"
 #include "core/base/particles.hpp"
 #include "core/walls/wall_samples.hpp"
 
@@ -50,7 +49,7 @@ void add_wall_sample_reactions(const ParticleSet& particles, const WallSampleLis
   if (!samples.has_samples()) return;
   scratch.assign(samples.samples.size(), Vec2::Zero());
   const auto n = static_cast<std::ptrdiff_t>(particles.size());
-#pragma omp parallel for schedule(static, kParticleChunk)
+#pragma omp parallel for schedule(static)
   for (std::ptrdiff_t i = 0; i < n; ++i) {
     if (particles.type[i] != ParticleType::Fluid) continue;
     const auto row = static_cast<std::size_t>(i);

@@ -18,7 +18,6 @@
 #include <limits>
 #include <memory>
 
-#include "core/base/parallel.hpp"
 #include "core/io/checkpoint.hpp"
 #include "core/io/geometry.hpp"
 #include "core/io/output.hpp"
@@ -239,7 +238,7 @@ class EisphMethod final : public Method {
     const Vec2 gravity = scene_.physics.gravity;
     const auto timed = measure(timers_, operators_phase_);
     isph::summation_density(particles, neighbours_, samples_, kernel_, mass_, rest_density_, density);  // rho*
-#pragma omp parallel for schedule(static, kParticleChunk)
+#pragma omp parallel for schedule(static)
     for (std::ptrdiff_t i = 0; i < count; ++i) {
       const bool fluid = particles.type[i] == ParticleType::Fluid;
       free_surface[i] = fluid && density[i] < free_surface_density_ratio_ * rest_density_ ? 1.0 : 0.0;
@@ -256,7 +255,7 @@ class EisphMethod final : public Method {
     const double density_weight = source_term_ == "velocity_divergence"  ? 0.0
                                   : source_term_ == "density_invariance" ? 1.0
                                                                          : density_relaxation_;
-#pragma omp parallel for schedule(static, kParticleChunk)
+#pragma omp parallel for schedule(static)
     for (std::ptrdiff_t i = 0; i < count; ++i) {
       source_[i] = particles.type[i] != ParticleType::Fluid
                        ? 0.0

@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <cmath>
 
-#include "core/base/parallel.hpp"
 #include "core/search/for_each_neighbour.hpp"
 #include "methods/isph/isph_operators.hpp"
 #include "methods/isph/isph_surface.hpp"
@@ -13,7 +12,7 @@ namespace mps_lab::eisph {
 void adami_wall_pressure(const ParticleSet& particles, const NeighbourList& neighbours, const SphKernel& kernel,
                          const std::vector<double>& density, const Vec2& gravity, std::vector<double>& pressure) {
   const auto n = static_cast<std::ptrdiff_t>(particles.size());
-#pragma omp parallel for schedule(static, kParticleChunk)
+#pragma omp parallel for schedule(static)
   for (std::ptrdiff_t w = 0; w < n; ++w) {
     if (particles.type[w] != ParticleType::Wall) continue;
     // Adami, Hu & Adams (2012), eq. 27 with a fixed wall:

@@ -19,7 +19,6 @@
 #include <cmath>
 #include <memory>
 
-#include "core/base/parallel.hpp"
 #include "core/io/checkpoint.hpp"
 #include "core/io/geometry.hpp"
 #include "core/io/output.hpp"
@@ -240,7 +239,7 @@ class IsphMethod final : public Method {
 
     {
       const auto timed = measure(timers_, operators_phase_);
-#pragma omp parallel for schedule(static, kParticleChunk)
+#pragma omp parallel for schedule(static)
       for (std::ptrdiff_t i = 0; i < count; ++i) {
         acceleration_[i] = particles.type[i] == ParticleType::Fluid ? gravity : Vec2::Zero();
       }
@@ -293,7 +292,7 @@ class IsphMethod final : public Method {
       // rows of the PPE). They live in acceleration_'s storage: the predictor's acceleration is
       // spent (u* is in particles.velocity) and correct() rewrites every entry before reading one.
       std::vector<Vec2>& predicted_velocity = acceleration_;  // m/s here
-#pragma omp parallel for schedule(static, kParticleChunk)
+#pragma omp parallel for schedule(static)
       for (std::ptrdiff_t i = 0; i < count; ++i) {
         predicted_velocity[i] = particles.type[i] == ParticleType::Fluid ? particles.velocity[i]
                                 : particles.type[i] == ParticleType::Wall
@@ -323,7 +322,7 @@ class IsphMethod final : public Method {
       const auto timed = measure(timers_, solve_phase_);
       ppe_.solve_assembled(particles, settings_, solve);
       if (clamp_negative_pressure_) {
-#pragma omp parallel for schedule(static, kParticleChunk)
+#pragma omp parallel for schedule(static)
         for (std::ptrdiff_t i = 0; i < count; ++i) {
           particles.pressure[i] = std::max(particles.pressure[i], 0.0);
         }
@@ -356,7 +355,7 @@ class IsphMethod final : public Method {
     }
     {
       const auto timed = measure(timers_, integration_phase_);
-#pragma omp parallel for schedule(static, kParticleChunk)
+#pragma omp parallel for schedule(static)
       for (std::ptrdiff_t i = 0; i < count; ++i) {
         if (particles.type[i] != ParticleType::Fluid) continue;
         particles.velocity[i] += dt * acceleration_[i];  // u^{n+1} = u* - dt grad p / rho
@@ -400,7 +399,7 @@ class IsphMethod final : public Method {
     if (free_surface_rule_ == FreeSurfaceRule::PositionDivergence) {
       position_divergence(particles, neighbours_, samples_, kernel_, mass_, rho, rest_density_, position_divergence_);
     }
-#pragma omp parallel for schedule(static, kParticleChunk)
+#pragma omp parallel for schedule(static)
     for (std::ptrdiff_t i = 0; i < count; ++i) {
       if (particles.type[i] != ParticleType::Fluid) continue;
       const bool surface = free_surface_rule_ == FreeSurfaceRule::Density
@@ -422,7 +421,7 @@ class IsphMethod final : public Method {
     const double density_weight = source_term_ == SourceTerm::VelocityDivergence  ? 0.0
                                   : source_term_ == SourceTerm::DensityInvariance ? 1.0
                                                                                   : density_relaxation_;
-#pragma omp parallel for schedule(static, kParticleChunk)
+#pragma omp parallel for schedule(static)
     for (std::ptrdiff_t i = 0; i < count; ++i) {
       if (particles.type[i] != ParticleType::Fluid) {
         source_[i] = 0.0;

@@ -7,7 +7,6 @@
 
 #include <Eigen/LU>
 
-#include "core/base/parallel.hpp"
 #include "core/search/for_each_neighbour.hpp"
 #include "core/walls/wall_reactions.hpp"
 
@@ -26,7 +25,7 @@ void summation_density(const ParticleSet& particles, const NeighbourList& neighb
   const auto n = static_cast<std::ptrdiff_t>(particles.size());
   density.resize(particles.size());
   const double self = kernel.value(0.0);
-#pragma omp parallel for schedule(static, kParticleChunk)
+#pragma omp parallel for schedule(static)
   for (std::ptrdiff_t i = 0; i < n; ++i) {
     if (particles.type[i] != ParticleType::Fluid) {
       density[i] = particles.type[i] == ParticleType::Wall ? rest_density : 0.0;
@@ -145,7 +144,7 @@ void pressure_acceleration(const ParticleSet& particles, const NeighbourList& ne
   acceleration.resize(particles.size());
   if (renormalisation != nullptr) renormalisation->assign(particles.size(), Eigen::Matrix2d::Identity());
   const double rho_w = sample_rule.rest_density;
-#pragma omp parallel for schedule(static, kParticleChunk)
+#pragma omp parallel for schedule(static)
   for (std::ptrdiff_t i = 0; i < n; ++i) {
     acceleration[i] = Vec2::Zero();
     if (particles.type[i] != ParticleType::Fluid) continue;

@@ -2,7 +2,6 @@
 
 #include <cmath>
 
-#include "core/base/parallel.hpp"
 #include "core/linalg/pressure_system.hpp"
 #include "core/search/for_each_neighbour.hpp"
 #include "methods/isph/isph_operators.hpp"
@@ -160,13 +159,13 @@ void PressurePoissonSolver::assemble_rows(const ParticleSet& particles, const Ne
   const RowInputs in{particles, neighbours, samples, kernel, density, source, settings, fluid_scale};
   // The entries of every row, counted (in parallel), then placed: the rows' storage in matrix_.
   assembler_.start(matrix_, unknowns);
-#pragma omp parallel for schedule(static, kParticleChunk)
+#pragma omp parallel for schedule(static)
   for (int row = 0; row < unknowns; ++row) {
     assembler_.count(row, row_count(in, static_cast<std::size_t>(particle_of_[static_cast<std::size_t>(row)])));
   }
   assembler_.place(matrix_);
   // Rows in parallel; every row stores its diagonal first.
-#pragma omp parallel for schedule(static, kParticleChunk)
+#pragma omp parallel for schedule(static)
   for (int row = 0; row < unknowns; ++row) {
     const auto i = static_cast<std::size_t>(particle_of_[static_cast<std::size_t>(row)]);
     auto writer = assembler_.row(row);

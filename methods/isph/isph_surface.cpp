@@ -2,7 +2,6 @@
 
 #include <cstddef>
 
-#include "core/base/parallel.hpp"
 #include "core/search/for_each_neighbour.hpp"
 
 namespace mps_lab::isph {
@@ -71,7 +70,7 @@ void water_surface_factors(const ParticleSet& particles, const NeighbourList& ne
   const double minimum_depth = kMinimumSurfaceDepth * spacing;  // m
   const double g = gravity.norm();
   const Vec2 down = g > 0.0 ? Vec2(gravity / g) : Vec2::Zero();  // zero: every wall point is wet
-#pragma omp parallel for schedule(static, kParticleChunk)
+#pragma omp parallel for schedule(static)
   for (std::ptrdiff_t i = 0; i < n; ++i) {
     if (particles.type[i] != ParticleType::Fluid || free_surface[i] == 0.0) continue;
     factor[i] = surface_factor(particles, neighbours, samples, kernel, down, offset, minimum_depth,

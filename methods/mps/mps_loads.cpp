@@ -5,7 +5,6 @@
 #include <cstddef>
 #include <cstdint>
 
-#include "core/base/parallel.hpp"
 #include "core/search/for_each_neighbour.hpp"
 
 namespace mps_lab::mps {
@@ -21,7 +20,7 @@ void wetted_wall_particles(const ParticleSet& particles, const NeighbourList& ne
                            std::vector<char>& wetted) {
   const auto n = static_cast<std::ptrdiff_t>(particles.size());
   wetted.assign(particles.size(), 0);
-#pragma omp parallel for schedule(static, kParticleChunk)
+#pragma omp parallel for schedule(static)
   for (std::ptrdiff_t j = 0; j < n; ++j) {
     if (particles.type[j] != ParticleType::Wall) continue;
     const Vec2 xj = particles.position[j];
@@ -37,7 +36,7 @@ void add_surface_pressure_loads(const ParticleSet& particles, const std::vector<
                                 const ObstacleSurface& surface, const std::vector<Vec2>& rotation, double density,
                                 const Vec2& gravity, double half_spacing, std::vector<Vec2>& reaction) {
   const auto n = static_cast<std::ptrdiff_t>(particles.size());
-#pragma omp parallel for schedule(static, kParticleChunk)
+#pragma omp parallel for schedule(static)
   for (std::ptrdiff_t j = 0; j < n; ++j) {
     if (particles.type[j] != ParticleType::Wall || !wetted[j]) continue;
     const SurfaceElement& element = surface.element_of_id[particles.id[j]];

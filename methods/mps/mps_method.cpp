@@ -15,7 +15,6 @@
 
 #include "core/base/error.hpp"
 #include "core/base/memory_bytes.hpp"
-#include "core/base/parallel.hpp"
 #include "core/io/checkpoint.hpp"
 #include "core/io/geometry.hpp"
 #include "core/io/output.hpp"
@@ -254,7 +253,7 @@ class MpsMethod final : public Method {
     const Vec2 gravity = scene_.physics.gravity;
     {
       const auto timed = measure(timers_, operators_phase_);
-#pragma omp parallel for schedule(static, kParticleChunk)
+#pragma omp parallel for schedule(static)
       for (std::ptrdiff_t i = 0; i < count; ++i) {
         acceleration_[i] = particles.type[i] == ParticleType::Fluid ? gravity : Vec2::Zero();  // 5.1-1
       }
@@ -275,7 +274,7 @@ class MpsMethod final : public Method {
     }
     {
       const auto timed = measure(timers_, integration_phase_);
-#pragma omp parallel for schedule(static, kParticleChunk)
+#pragma omp parallel for schedule(static)
       for (std::ptrdiff_t i = 0; i < count; ++i) {
         if (particles.type[i] == ParticleType::Fluid) particles.velocity[i] += dt * acceleration_[i];  // 5.1-3
       }
@@ -283,7 +282,7 @@ class MpsMethod final : public Method {
     walls_.after_explicit_velocity(context);  // 5.1-4 CFL clamp
     {
       const auto timed = measure(timers_, integration_phase_);
-#pragma omp parallel for schedule(static, kParticleChunk)
+#pragma omp parallel for schedule(static)
       for (std::ptrdiff_t i = 0; i < count; ++i) {
         if (particles.type[i] == ParticleType::Fluid) particles.position[i] += dt * particles.velocity[i];  // 5.1-5
       }
@@ -344,7 +343,7 @@ class MpsMethod final : public Method {
     }
     {
       const auto timed = measure(timers_, integration_phase_);
-#pragma omp parallel for schedule(static, kParticleChunk)
+#pragma omp parallel for schedule(static)
       for (std::ptrdiff_t i = 0; i < count; ++i) {  // 5.2-8
         if (particles.type[i] != ParticleType::Fluid) continue;
         particles.velocity[i] += dt * acceleration_[i];

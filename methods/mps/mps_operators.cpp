@@ -6,7 +6,6 @@
 #include <cmath>
 #include <limits>
 
-#include "core/base/parallel.hpp"
 #include "core/search/for_each_neighbour.hpp"
 #include "core/walls/wall_reactions.hpp"
 
@@ -46,7 +45,7 @@ void number_density(const ParticleSet& particles, const NeighbourList& neighbour
                     const OperatorRadius& radius, std::vector<double>& out) {
   const auto n = static_cast<std::ptrdiff_t>(particles.size());
   out.resize(particles.size());
-#pragma omp parallel for schedule(static, kParticleChunk)
+#pragma omp parallel for schedule(static)
   for (std::ptrdiff_t i = 0; i < n; ++i) {
     double sum = 0.0;
     if (particles.type[i] != ParticleType::Ghost) {
@@ -82,7 +81,7 @@ void pressure_acceleration(const ParticleSet& particles, const NeighbourList& ne
                            const Vec2& gravity, bool min_includes_self, std::vector<Vec2>& acceleration) {
   const double coefficient = kDimension / radius.n0;
   const auto n = static_cast<std::ptrdiff_t>(particles.size());
-#pragma omp parallel for schedule(static, kParticleChunk)
+#pragma omp parallel for schedule(static)
   for (std::ptrdiff_t i = 0; i < n; ++i) {
     acceleration[i] = Vec2::Zero();
     if (particles.type[i] != ParticleType::Fluid) continue;
@@ -105,7 +104,7 @@ void neighbourhood_minimum(const ParticleSet& particles, const NeighbourList& ne
                            const Vec2& gravity, bool min_includes_self, std::vector<double>& out) {
   const auto n = static_cast<std::ptrdiff_t>(particles.size());
   out.assign(particles.size(), 0.0);
-#pragma omp parallel for schedule(static, kParticleChunk)
+#pragma omp parallel for schedule(static)
   for (std::ptrdiff_t i = 0; i < n; ++i) {
     if (!carries_pressure[i] || particles.type[i] == ParticleType::Ghost) continue;
     const double p_min = minimum_pressure_of(particles, neighbours, samples, radius, carries_pressure, density, gravity,

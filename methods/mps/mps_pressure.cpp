@@ -2,7 +2,6 @@
 
 #include "core/base/memory_bytes.hpp"
 
-#include "core/base/parallel.hpp"
 #include "core/linalg/pressure_system.hpp"
 #include "core/search/for_each_neighbour.hpp"
 
@@ -136,12 +135,12 @@ PressureSolveResult PressurePoissonSolver::assemble(ParticleSet& particles, cons
                      laplacian, settings,   n0,      coefficient,    source};
   // The entries of every row, counted (in parallel), then placed: the rows' storage in matrix_.
   assembler_.start(matrix_, unknowns);
-#pragma omp parallel for schedule(static, kParticleChunk)
+#pragma omp parallel for schedule(static)
   for (int row = 0; row < unknowns; ++row) {
     assembler_.count(row, row_count(in, static_cast<std::size_t>(particle_of_[static_cast<std::size_t>(row)])));
   }
   assembler_.place(matrix_);
-#pragma omp parallel for schedule(static, kParticleChunk)
+#pragma omp parallel for schedule(static)
   for (int row = 0; row < unknowns; ++row) assemble_row(in, row);
   assembler_.finish(matrix_, /*diagonal_first=*/true);
 

@@ -6,7 +6,6 @@
 #include <limits>
 #include <stdexcept>
 
-#include "core/base/parallel.hpp"
 #include "core/search/for_each_neighbour.hpp"
 
 namespace mps_lab::mps {
@@ -66,7 +65,7 @@ void pair_sum(const ParticleSet& particles, const NeighbourList& neighbours, con
               std::vector<double>& out) {
   const auto n = static_cast<std::ptrdiff_t>(particles.size());
   out.assign(particles.size(), 0.0);
-#pragma omp parallel for schedule(static, kParticleChunk)
+#pragma omp parallel for schedule(static)
   for (std::ptrdiff_t i = 0; i < n; ++i) {
     if (particles.type[i] == ParticleType::Ghost) continue;
     const Vec2 xi = particles.position[i];
@@ -146,7 +145,7 @@ void cmps_pressure_acceleration(const ParticleSet& particles, const NeighbourLis
                         minimum_pressure);
   const double coefficient = kDimension / radius.n0;
   const auto n = static_cast<std::ptrdiff_t>(particles.size());
-#pragma omp parallel for schedule(static, kParticleChunk)
+#pragma omp parallel for schedule(static)
   for (std::ptrdiff_t i = 0; i < n; ++i) {
     acceleration[i] = Vec2::Zero();
     if (particles.type[i] != ParticleType::Fluid) continue;
