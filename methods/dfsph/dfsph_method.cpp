@@ -38,6 +38,7 @@
 #include "core/run/profile.hpp"
 #include "core/run/time_step.hpp"
 #include "core/search/cell_order.hpp"
+#include "methods/dfsph/dfsph_global_density.hpp"
 #include "methods/dfsph/dfsph_operators.hpp"
 #include "methods/dfsph/dfsph_solvers.hpp"
 
@@ -92,6 +93,38 @@ struct SolverTotals {
   }
 };
 
+// Running statistics of the global density solve (density_solver = amg_cg), for run.json.
+struct GlobalSolveTotals {
+  long long solves = 0;  // steps with compression (a CG solve)
+  long long iterations = 0;
+  long long max_iterations = 0;
+  long long not_converged = 0;
+
+  void add(const GlobalDensityOutcome& outcome) {
+    if (!outcome.solved) return;  // nothing compressed
+    ++solves;
+    iterations += outcome.iterations;
+    max_iterations = std::max(max_iterations, outcome.iterations);
+    not_converged += outcome.converged ? 0 : 1;
+  }
+  void save(CheckpointWriter& out) const {
+    for (long long v : {solves, iterations, max_iterations, not_converged}) out.write_int(v);
+  }
+  void restore(CheckpointReader& in) {
+    solves = in.read_int();
+    iterations = in.read_int();
+    max_iterations = in.read_int();
+    not_converged = in.read_int();
+  }
+  nlohmann::json to_json() const {
+    const double count = std::max(1.0, static_cast<double>(solves));
+    return {{"solves", solves},
+            {"mean_iterations", static_cast<double>(iterations) / count},
+            {"max_iterations", max_iterations},
+            {"not_converged", not_converged}};
+  }
+};
+
 // The wall hooks the step calls (MethodInfo::wall_hooks): no explicit position update, so no
 // after_explicit_position; the advection ends the step with after_correction.
 constexpr WallHooks kWallHooks = {WallHook::AfterNeighbourSearch, WallHook::AfterExplicitVelocity,
@@ -113,7 +146,12 @@ class DfsphMethod final : public Method {
     const auto& p = setup.parameters;
     const double l0 = scene_.particle_spacing;
     rest_density_ = scene_.physics.density;
-    particle_mass_ = rest_density_ * l0 * l0;  // 2-D: kg per metre of depth
+    // 2-D: kg per metre of depth. "spacing": m = rho0 l0^2, whose lattice density is
+    // m sum_lattice W = 1.0009 rho0 with the cubic spline at 2 l0 (run.json:
+    // lattice_density_over_rho0); "lattice": m = rho0 / sum_lattice W, so that the initial
+    // lattice is at rest density (SPlisHSPlasH scales its particle volume for the same reason).
+    particle_mass_ = p.string("particle_mass") == "lattice" ? rest_density_ / lattice_kernel_sum(kernel_, l0)
+                                                            : rest_density_ * l0 * l0;
     // Loads on obstacles (MethodInfo::obstacle_loads): the reaction on wall particles, when there are both.
     computes_reactions_ = !scene_.walls.obstacles.empty() && walls_.wall_particles();
     // ... and on each obstacle's wall samples (MethodInfo::sample_obstacle_loads).
@@ -129,6 +167,12 @@ class DfsphMethod final : public Method {
     sample_hydrostatic_ = p.boolean("wall_sample_hydrostatic");
     wall_pressure_ = wall_pressure_from_name(p.string("wall_pressure"));
     hydrostatic_start_ = p.string("initial_stiffness") == "hydrostatic";
+    global_density_ = p.string("density_solver") == "amg_cg";
+    global_settings_.tolerance = p.number("density_cg_tolerance");
+    global_settings_.max_iterations = p.integer("density_cg_max_iterations");
+    global_settings_.min_neighbours = divergence_min_neighbours_;
+    global_cycles_ = p.integer("density_cg_cycles");
+    global_smoothing_ = p.integer("density_cg_smoothing");
     if (const WallParticleModel* model = walls_.wall_particle_model()) {  // akinci_boundary
       if (model->pressure() != WallParticlePressure::AkinciMirrored) {
         throw std::logic_error(std::string("dfsph: wall-particle model ") +
@@ -149,6 +193,7 @@ class DfsphMethod final : public Method {
                         "got true, expected false with wall_pressure \"extrapolated\" (which includes the "
                         "hydrostatic part of the wall pressure)");
     }
+    check_global_density(p, block);
     for (const auto* prefix : {"density", "divergence"}) {
       const SolverSettings& s = std::string(prefix) == "density" ? density_settings_ : divergence_settings_;
       if (s.min_iterations > s.max_iterations) {
@@ -156,6 +201,34 @@ class DfsphMethod final : public Method {
                           "got " + std::to_string(s.min_iterations) + ", expected at most " + prefix +
                               "_max_iterations (" + std::to_string(s.max_iterations) + ")");
       }
+    }
+  }
+
+  // density_solver = amg_cg needs boundary particles and the extrapolated wall pressure (its
+  // surrogate's Neumann wall is the symmetric wall term; with the mirrored one the still tank
+  // diverged in 2 steps: dfsph_global_density.hpp); its own parameters apply to it alone.
+  void check_global_density(const ParameterValues& p, const std::string& block) const {
+    if (!global_density_) {
+      std::string changed;
+      if (p.number("density_cg_tolerance") != kDefaultCgTolerance) changed = "density_cg_tolerance";
+      if (p.integer("density_cg_max_iterations") != kDefaultCgIterations) changed = "density_cg_max_iterations";
+      if (p.integer("density_cg_cycles") != kDefaultCgCycles) changed = "density_cg_cycles";
+      if (p.integer("density_cg_smoothing") != kDefaultCgSmoothing) changed = "density_cg_smoothing";
+      if (!changed.empty()) {
+        throw_input_error(scene_.source, block + changed,
+                          "applies to density_solver amg_cg only, got density_solver " + p.string("density_solver"));
+      }
+      return;
+    }
+    if (!walls_.wall_particles()) {
+      throw_input_error(scene_.source, block + "density_solver",
+                        "got amg_cg with the wall samples of " + walls_.boundary_name() +
+                            ", expected a boundary model of wall particles (akinci_boundary, dummy_layers)");
+    }
+    if (wall_pressure_ != WallPressure::Extrapolated) {
+      throw_input_error(scene_.source, block + "density_solver",
+                        "got amg_cg with wall_pressure mirrored, expected wall_pressure extrapolated (the symmetric "
+                        "wall of the solve's Neumann surrogate; docs/methods/dfsph.md)");
     }
   }
 
@@ -240,6 +313,7 @@ class DfsphMethod final : public Method {
         {"wall_pressure", wall_pressure_ == WallPressure::Extrapolated ? "extrapolated" : "mirrored"},
         {"time_step", clock_.summary(time_step_settings_)},
         {"density_solver", density_totals_.to_json()},
+        {"density_solver_kind", global_density_ ? "amg_cg" : "relaxed_jacobi"},
         {"divergence_solver", divergence_totals_.to_json()},
         {"wall_treatments", walls_.names()},
         {"ghosts_created", ghosts_}};
@@ -251,6 +325,7 @@ class DfsphMethod final : public Method {
     } else {
       summary["wall_samples"] = {{"hydrostatic_offset", sample_hydrostatic_}, {"last_step", samples_.samples.size()}};
     }
+    if (global_density_) summary["density_cg"] = global_totals_.to_json();
     return summary;
   }
 
@@ -268,6 +343,7 @@ class DfsphMethod final : public Method {
     density_totals_.save(out);
     divergence_totals_.save(out);
     out.write_size(ghosts_);
+    if (global_density_) global_totals_.save(out);
   }
 
   void restore_state(CheckpointReader& in) override {
@@ -280,6 +356,7 @@ class DfsphMethod final : public Method {
     density_totals_.restore(in);
     divergence_totals_.restore(in);
     ghosts_ = in.read_size();
+    if (global_density_) global_totals_.restore(in);
     for (const std::size_t size :
          {boundary_mass_.size(), density_stiffness_.size(), divergence_stiffness_.size(), acceleration_.size()}) {
       if (size != n) {
@@ -451,10 +528,56 @@ class DfsphMethod final : public Method {
       const auto timed = measure(timers_, density_phase_);
       SolverSettings settings = density_settings_;
       if (hydrostatic_start_ && density_totals_.solves == 0) settings.warm_start_fraction = 1.0;
-      pressure = correct_density_error(particles, sph, density, alpha, dt, settings, density_stiffness_, workspace_);
+      pressure = global_density_ ? solve_density_in_cycles(particles, sph, density, alpha, dt)
+                                 : correct_density_error(particles, sph, density, alpha, dt, settings,
+                                                         density_stiffness_, workspace_);
       density_totals_.add(pressure);
     }
     return pressure;
+  }
+
+  // 7a. density_solver = amg_cg (dfsph_global_density.hpp; docs/methods/dfsph.md, "A density
+  // solve with global reach"): from zero stiffness, cycles of
+  //   a global correction (AMG-CG on the surrogate, from the corrected velocities' error) and
+  //   the relaxed Jacobi iteration from the predicted velocities v* with the new total,
+  // density_cg_smoothing iterations per cycle and [BK17]'s rule in the last one, until the error
+  // is below density_tolerance. Returns the Jacobi iterations of all cycles.
+  SolverOutcome solve_density_in_cycles(ParticleSet& particles, const SphSystem& sph,
+                                        const std::vector<double>& density, const std::vector<double>& alpha,
+                                        double dt) {
+    count_active_neighbours(particles, sph, global_counts_);
+    assemble_density_system(particles, sph, global_counts_, global_settings_, global_workspace_);
+    predicted_velocity_ = particles.velocity;
+    SolverSettings jacobi = density_settings_;
+    jacobi.warm_start_fraction = 1.0;  // the start is this step's estimate: applied in full, everywhere
+    jacobi.keep_uncompressed = true;
+    // Every step starts from zero stiffness: the global corrections are >= 0 (A is an M-matrix
+    // and b >= 0), so a stiffness carried over could only grow (measured: the still tank
+    // diverged within 4 steps with the last step's total as the start).
+    for (std::size_t i = 0; i < particles.size(); ++i) density_stiffness_[i] = 0.0;
+    SolverOutcome outcome;
+    double initial_error = -1.0;
+    long long iterations = 0;
+    for (long long cycle = 0; cycle < global_cycles_; ++cycle) {
+      global_totals_.add(
+          add_density_increment(particles, sph, density, dt, global_settings_, density_stiffness_, global_workspace_));
+      restore_predicted_velocities(particles);
+      SolverSettings run = jacobi;
+      if (cycle + 1 < global_cycles_) run.max_iterations = std::min(run.max_iterations, global_smoothing_);
+      outcome = correct_density_error(particles, sph, density, alpha, dt, run, density_stiffness_, workspace_);
+      if (initial_error < 0.0) initial_error = outcome.initial_error;
+      iterations += outcome.iterations;
+      if (outcome.converged) break;
+    }
+    outcome.iterations = iterations;
+    outcome.initial_error = initial_error;
+    return outcome;
+  }
+
+  void restore_predicted_velocities(ParticleSet& particles) const {
+    for (std::size_t i = 0; i < particles.size(); ++i) {
+      if (particles.type[i] == ParticleType::Fluid) particles.velocity[i] = predicted_velocity_[i];
+    }
   }
 
   // 8. advection, the pressure the step applied, the wall pressures, the wall hook after the
@@ -599,6 +722,13 @@ class DfsphMethod final : public Method {
   std::vector<double> divergence_stiffness_;  // kappa^v_i of the divergence solver, m^2/s^2
   std::vector<Vec2> acceleration_;            // non-pressure acceleration of the last step, m/s^2
   SolverWorkspace workspace_;
+  bool global_density_ = false;  // density_solver = amg_cg
+  GlobalDensitySettings global_settings_;
+  GlobalDensityWorkspace global_workspace_;
+  std::vector<double> global_counts_;  // fluid + boundary neighbours of this step
+  long long global_cycles_ = 1, global_smoothing_ = 1;
+  std::vector<Vec2> predicted_velocity_;  // v* of this step, m/s
+  GlobalSolveTotals global_totals_;
 
   TimeStepClock clock_;  // simulated time, the last step (the CFL estimate's dt), min/max/mean
   SolverTotals density_totals_, divergence_totals_;
@@ -608,14 +738,12 @@ class DfsphMethod final : public Method {
 }  // namespace
 }  // namespace mps_lab::dfsph
 
-void mps_lab_register_method_dfsph(mps_lab::MethodRegistry& registry) {
+namespace {
+
+// The parameters of methods.dfsph (core/base/parameters.hpp), documented in docs/methods/dfsph.md.
+std::vector<mps_lab::ParameterSpec> dfsph_parameters() {
   using namespace mps_lab;
-  MethodInfo info;
-  info.name = "dfsph";
-  info.description =
-      "Divergence-Free SPH (Bender & Koschier 2015/2017): divergence and constant-density solvers, Akinci boundaries "
-      "or wall samples";
-  info.parameters = {
+  return {
       string_parameter("kernel", "cubic_spline", "SPH kernel (BK17: cubic spline)")
           .one_of({"cubic_spline", "wendland_c2"}),
       number_parameter("kernel_support", 2.0, "l0",
@@ -652,6 +780,30 @@ void mps_lab_register_method_dfsph(mps_lab::MethodRegistry& registry) {
           "share of the last step's stiffness both solvers start from (SPlisHSPlasH 0.5; BK17 text: the sum)")
           .at_least(0.0)
           .at_most(1.0),
+      string_parameter("particle_mass", "spacing",
+                       "spacing (m = rho0 l0^2: the lattice's SPH density is 1.0009 rho0 with the default kernel) or "
+                       "lattice (m = rho0 / sum_lattice W: the initial lattice is at rest density)")
+          .one_of({"lattice", "spacing"}),
+      string_parameter("density_solver", "relaxed_jacobi",
+                       "relaxed_jacobi (BK17 Algorithm 3) or amg_cg: the density constraints as one linear system, "
+                       "solved by AMG-preconditioned conjugate gradients, then finished by the relaxed Jacobi "
+                       "iteration (global reach; docs/methods/dfsph.md 'A density solve with global reach')")
+          .one_of({"amg_cg", "relaxed_jacobi"}),
+      number_parameter("density_cg_tolerance", dfsph::kDefaultCgTolerance, "",
+                       "amg_cg: relative residual ||b - A s|| / ||b|| at which the linear solve stops")
+          .above(0.0)
+          .below(1.0),
+      integer_parameter("density_cg_max_iterations", dfsph::kDefaultCgIterations, "amg_cg: CG iteration cap")
+          .at_least(1)
+          .at_most(100000),
+      integer_parameter("density_cg_cycles", dfsph::kDefaultCgCycles,
+                        "amg_cg: at most this many cycles of a global correction and relaxed Jacobi iterations")
+          .at_least(1)
+          .at_most(1000),
+      integer_parameter("density_cg_smoothing", dfsph::kDefaultCgSmoothing,
+                        "amg_cg: relaxed Jacobi iterations per cycle (the last cycle: up to density_max_iterations)")
+          .at_least(1)
+          .at_most(100000),
       string_parameter("initial_stiffness", "zero",
                        "the density solver's stiffness before the first step: zero (cold start) or hydrostatic (|g| "
                        "times the depth below the nearest free surface, applied in full by the first solve)")
@@ -665,6 +817,18 @@ void mps_lab_register_method_dfsph(mps_lab::MethodRegistry& registry) {
                         "wall samples (boundary models without wall particles): add the hydrostatic part "
                         "rho0 g.(x_w - x_s) of their pressure as an explicit force (measured harmful)"),
   };
+}
+
+}  // namespace
+
+void mps_lab_register_method_dfsph(mps_lab::MethodRegistry& registry) {
+  using namespace mps_lab;
+  MethodInfo info;
+  info.name = "dfsph";
+  info.description =
+      "Divergence-Free SPH (Bender & Koschier 2015/2017): divergence and constant-density solvers, Akinci boundaries "
+      "or wall samples";
+  info.parameters = dfsph_parameters();
   info.fields = {{"density", "kg/m^3", "SPH density rho_i at the start of the step (fluid; 0 elsewhere)", true},
                  {"divergence_pressure", "Pa", "kappa^v rho: the divergence-free solver's part of `pressure`", true},
                  {"boundary_volume", "m^2", "Akinci volume V_b = 1 / sum_k W_bk of the boundary particles", true},

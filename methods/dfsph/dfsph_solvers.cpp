@@ -210,7 +210,8 @@ double predict(const IterationArrays& a, const std::vector<double>& density, con
 // step's total stiffness, times the fraction, to the particles that are compressed now;
 // the others start from zero, so that a stiffness left over from a past compression
 // cannot push apart particles that are no longer compressed (increments are >= 0: a
-// stiffness can only grow within a step). Without a warm start every stiffness restarts
+// stiffness can only grow within a step); with keep_uncompressed (a start that is this
+// step's own estimate, not a past step's) every particle keeps it. Without a warm start every stiffness restarts
 // from zero. Called by every thread of the solver's parallel region (an orphaned omp for).
 void start_stiffness(const IterationArrays& a, const std::vector<double>& density, const SolverSettings& settings,
                      std::vector<double>& stiffness) {
@@ -218,7 +219,7 @@ void start_stiffness(const IterationArrays& a, const std::vector<double>& densit
 #pragma omp for schedule(static)
   for (std::ptrdiff_t f = 0; f < a.fluid_count; ++f) {
     const std::uint32_t i = a.fluid[f];
-    const bool keep = warm && a.increment[i] > 0.0;
+    const bool keep = warm && (settings.keep_uncompressed || a.increment[i] > 0.0);
     stiffness[i] = keep ? settings.warm_start_fraction * stiffness[i] : 0.0;
     if (warm) {  // the warm start is this correction; the increments are predicted again after it
       a.s[i] = keep ? stiffness[i] / density[i] : 0.0;

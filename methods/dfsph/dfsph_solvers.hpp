@@ -35,6 +35,9 @@ struct SolverSettings {
   long long min_iterations = 2;
   long long max_iterations = 100;
   double warm_start_fraction = 0.5;  // share of the last step's stiffness applied first (0: cold start)
+  // Apply the starting stiffness everywhere, not only where the particle is compressed now:
+  // set when it is this step's own estimate (the global solve, dfsph_global_density.hpp).
+  bool keep_uncompressed = false;
 };
 
 struct SolverOutcome {
