@@ -27,8 +27,7 @@ Pairs pairs_of(const ParticleSet& particles, const SphSystem& system, GlobalDens
     }
     mass = w.neighbour_mass.data();
   }
-  return Pairs{system.neighbours.offsets.data(), system.neighbours.indices.data(), system.kernel.gradient.data(),
-               mass};
+  return Pairs{system.neighbours.offsets.data(), system.neighbours.indices.data(), system.kernel.gradient.data(), mass};
 }
 
 // The unknowns: fluid particles with at least min_neighbours fluid + boundary neighbours.
@@ -46,26 +45,51 @@ void select_unknowns(const ParticleSet& particles, const std::vector<double>& co
 }
 
 // The right-hand side of every unknown, from the velocities before the correction (boundary
-// particles at their prescribed velocity):
-//   b_i = (rho_i + dt D_i(v*) - rho0) / dt^2,  D_i(v) = sum_j c_ij . (v_i - v_j)  ([BK17] eq. (9)).
-// Both signs, as a projection's source: an expanded particle lowers its stiffness.
+// particles at their prescribed velocity): the predicted excess of every fluid particle,
+//   e_i = rho_i + dt D_i(v) - rho0,  D_i(v) = sum_j c_ij . (v_i - v_j)  ([BK17] eq. (9)),
+// averaged over the fluid in the kernel's support (Shepard weights W_ij, i itself included)
+// and only then clamped at 0:
+//   b_i = max(sum_j W_ij e_j / sum_j W_ij, 0) / dt^2.
+// Compression only, as [BK17]'s clamp, but the clamp comes after the average: a mode that
+// compresses and expands neighbours in turn averages to about 0 and is left to the Jacobi
+// iteration, which resolves it locally. Clamped first (b_i = max(e_i, 0) / dt^2), it would be a
+// net source, which the global solve spreads over the whole column as a smooth pressure that
+// cannot undo it: at a million particles such a mode grew at the column's corner until the run
+// diverged at step 59 (with 2 Jacobi iterations per step) or 103 (with 10).
 void right_hand_side(const ParticleSet& particles, const SphSystem& system, const Pairs& pairs,
                      const std::vector<double>& density, double dt, GlobalDensityWorkspace& w) {
   const auto rows = static_cast<std::ptrdiff_t>(w.particle_of.size());
+  const auto n = static_cast<std::ptrdiff_t>(particles.size());
   w.rhs.resize(w.particle_of.size());
+  w.excess.resize(particles.size());
   const auto velocity = [&](std::uint32_t j) {
     return particles.type[j] == ParticleType::Fluid ? particles.velocity[j] : particles.prescribed_wall_velocity(j);
   };
   const double rho0 = system.rest_density;
-#pragma omp parallel for schedule(static) if (rows >= kThreadedLoopMinimum)
-  for (std::ptrdiff_t r = 0; r < rows; ++r) {
-    const auto i = static_cast<std::uint32_t>(w.particle_of[static_cast<std::size_t>(r)]);
-    const Vec2 vi = particles.velocity[i];
-    double rate = 0.0;  // kg/(m^3 s)
-    for (std::uint32_t k = pairs.offsets[i]; k < pairs.offsets[i + 1]; ++k) {
-      rate += pairs.c(k).dot(vi - velocity(pairs.neighbour[k]));
+#pragma omp parallel
+  {
+#pragma omp for schedule(static)
+    for (std::ptrdiff_t i = 0; i < n; ++i) {
+      if (particles.type[i] != ParticleType::Fluid) continue;
+      const Vec2 vi = particles.velocity[i];
+      double rate = 0.0;  // kg/(m^3 s)
+      for (std::uint32_t k = pairs.offsets[i]; k < pairs.offsets[i + 1]; ++k) {
+        rate += pairs.c(k).dot(vi - velocity(pairs.neighbour[k]));
+      }
+      w.excess[i] = density[i] + dt * rate - rho0;
     }
-    w.rhs[static_cast<std::size_t>(r)] = std::max(density[i] + dt * rate - rho0, 0.0) / (dt * dt);
+#pragma omp for schedule(static)
+    for (std::ptrdiff_t r = 0; r < rows; ++r) {
+      const auto i = static_cast<std::uint32_t>(w.particle_of[static_cast<std::size_t>(r)]);
+      double sum = system.kernel.self_value * w.excess[i], weight = system.kernel.self_value;
+      for (std::uint32_t k = pairs.offsets[i]; k < pairs.offsets[i + 1]; ++k) {
+        const std::uint32_t j = pairs.neighbour[k];
+        if (j == i || particles.type[j] != ParticleType::Fluid) continue;
+        sum += system.kernel.value[k] * w.excess[j];
+        weight += system.kernel.value[k];
+      }
+      w.rhs[static_cast<std::size_t>(r)] = std::max(sum / weight, 0.0) / (dt * dt);
+    }
   }
 }
 
@@ -146,8 +170,8 @@ std::size_t assemble_density_system(const ParticleSet& particles, const SphSyste
   return w.particle_of.size();
 }
 
-void density_right_hand_side(const ParticleSet& particles, const SphSystem& system,
-                             const std::vector<double>& density, double dt, GlobalDensityWorkspace& workspace) {
+void density_right_hand_side(const ParticleSet& particles, const SphSystem& system, const std::vector<double>& density,
+                             double dt, GlobalDensityWorkspace& workspace) {
   right_hand_side(particles, system, pairs_of(particles, system, workspace), density, dt, workspace);
 }
 

@@ -39,7 +39,8 @@
 //   - the unknowns are the fluid particles with a full neighbourhood (the divergence solver's
 //     "particle deficiency" rule: at least divergence_neighbour_fraction of the lattice's
 //     neighbours); the others, the free surface, keep s = 0 (Dirichlet, as isph's surface);
-//   - b has both signs (a projection's source: an expanded particle lowers its stiffness);
+//   - b_i = max(Shepard average of rho*_j - rho0 around i, 0) / dt^2: compression only, the
+//     clamp after the average (right_hand_side in the .cpp);
 //   - negative solutions are clamped to 0;
 //   - the relaxed Jacobi iteration of dfsph_solvers.hpp then starts from this stiffness, kept
 //     in full, and finishes under [BK17]'s clamp and stopping rule (density_tolerance).
@@ -63,20 +64,20 @@ constexpr double kDefaultCgTolerance = 1.0e-3;
 constexpr long long kDefaultCgIterations = 200;
 // ... and of density_cg_cycles and density_cg_smoothing (the method's cycles, dfsph_method.cpp).
 constexpr long long kDefaultCgCycles = 4;
-constexpr long long kDefaultCgSmoothing = 4;
+constexpr long long kDefaultCgSmoothing = 2;
 
 struct GlobalDensitySettings {
-  double tolerance = kDefaultCgTolerance;        // relative residual ||b - A s|| / ||b|| of the CG solve
+  double tolerance = kDefaultCgTolerance;           // relative residual ||b - A s|| / ||b|| of the CG solve
   long long max_iterations = kDefaultCgIterations;  // CG iterations
-  std::uint32_t min_neighbours = 0;    // an unknown needs this many fluid + boundary neighbours
+  std::uint32_t min_neighbours = 0;                 // an unknown needs this many fluid + boundary neighbours
 };
 
 struct GlobalDensityOutcome {
-  bool solved = false;        // false: nothing compressed, no solve
-  long long iterations = 0;   // CG iterations
-  double residual = 0.0;      // achieved relative residual
+  bool solved = false;       // false: nothing compressed, no solve
+  long long iterations = 0;  // CG iterations
+  double residual = 0.0;     // achieved relative residual
   bool converged = true;
-  std::size_t unknowns = 0;   // rows of A
+  std::size_t unknowns = 0;  // rows of A
 };
 
 // Storage reused from step to step (never shrunk: nothing is allocated once the sizes are seen).
@@ -84,6 +85,7 @@ struct GlobalDensityWorkspace {
   std::vector<int> row_of;             // by particle: its row, -1 for no unknown
   std::vector<int> particle_of;        // by row: its particle
   std::vector<double> rhs;             // b, kg/(m^3 s^2)
+  std::vector<double> excess;          // rho*_i - rho0 by particle (fluid), kg/m^3
   std::vector<double> solution;        // ds by row, m^5/(kg s^2)
   std::vector<double> neighbour_mass;  // m_j when the kernel cache has none, kg/m
   std::vector<char> grounded;          // by row: touches a Dirichlet particle
@@ -102,9 +104,11 @@ std::size_t assemble_density_system(const ParticleSet& particles, const SphSyste
                                     GlobalDensityWorkspace& workspace);
 
 // b of the current velocities (particles.velocity) into workspace.rhs (exposed for the tests):
-//   b_i = max(rho_i + dt D_i(v) - rho0, 0) / dt^2   (only compression is a source, as in [BK17]).
-void density_right_hand_side(const ParticleSet& particles, const SphSystem& system,
-                             const std::vector<double>& density, double dt, GlobalDensityWorkspace& workspace);
+//   b_i = max(<rho* - rho0>_i, 0) / dt^2,  <.>_i the Shepard average over the fluid in the
+// kernel's support of the predicted excess rho*_j - rho0 = rho_j + dt D_j(v) - rho0
+// (only compression is a source, as in [BK17]; the average comes first: the .cpp says why).
+void density_right_hand_side(const ParticleSet& particles, const SphSystem& system, const std::vector<double>& density,
+                             double dt, GlobalDensityWorkspace& workspace);
 
 // One global correction: b from the current velocities, A ds = b by AMG-preconditioned CG
 // from ds = 0, and kappa_i <- max(kappa_i + rho_i ds_i, 0) on the unknowns (`stiffness`, m^2/s^2).

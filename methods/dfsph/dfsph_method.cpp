@@ -540,8 +540,9 @@ class DfsphMethod final : public Method {
   // solve with global reach"): from zero stiffness, cycles of
   //   a global correction (AMG-CG on the surrogate, from the corrected velocities' error) and
   //   the relaxed Jacobi iteration from the predicted velocities v* with the new total,
-  // density_cg_smoothing iterations per cycle and [BK17]'s rule in the last one, until the error
-  // is below density_tolerance. Returns the Jacobi iterations of all cycles.
+  // at least density_cg_smoothing iterations per cycle (the Jacobi iteration removes the local
+  // error the surrogate leaves), at most that many but in the last cycle, until the error is
+  // below density_tolerance. Returns the Jacobi iterations of all cycles.
   SolverOutcome solve_density_in_cycles(ParticleSet& particles, const SphSystem& sph,
                                         const std::vector<double>& density, const std::vector<double>& alpha,
                                         double dt) {
@@ -562,7 +563,8 @@ class DfsphMethod final : public Method {
       global_totals_.add(
           add_density_increment(particles, sph, density, dt, global_settings_, density_stiffness_, global_workspace_));
       restore_predicted_velocities(particles);
-      SolverSettings run = jacobi;
+      SolverSettings run = jacobi;  // a smoother: at least density_cg_smoothing iterations
+      run.min_iterations = std::max(run.min_iterations, global_smoothing_);
       if (cycle + 1 < global_cycles_) run.max_iterations = std::min(run.max_iterations, global_smoothing_);
       outcome = correct_density_error(particles, sph, density, alpha, dt, run, density_stiffness_, workspace_);
       if (initial_error < 0.0) initial_error = outcome.initial_error;
@@ -801,7 +803,8 @@ std::vector<mps_lab::ParameterSpec> dfsph_parameters() {
           .at_least(1)
           .at_most(1000),
       integer_parameter("density_cg_smoothing", dfsph::kDefaultCgSmoothing,
-                        "amg_cg: relaxed Jacobi iterations per cycle (the last cycle: up to density_max_iterations)")
+                        "amg_cg: relaxed Jacobi iterations after each global correction, a smoother (the last cycle: "
+                        "at least this many, up to density_max_iterations)")
           .at_least(1)
           .at_most(100000),
       string_parameter("initial_stiffness", "zero",
