@@ -380,19 +380,34 @@ class DfsphMethod final : public Method {
     const SampleCache& sc = sample_cache_;
     const WallPressureStencil& ws = wall_stencil_;
     const SolverWorkspace& w = workspace_;
-    return {{"neighbour_list", held_bytes(neighbours_.offsets, neighbours_.indices)},
-            {"cell_list", cells_.held_bytes()},
-            {"kernel_cache", held_bytes(cache_.value, cache_.gradient, cache_.neighbour_mass)},
-            {"wall_samples", held_bytes(samples_.offsets, samples_.samples)},
-            {"sample_cache", held_bytes(sc.value, sc.gradient, sc.mass, sc.own, sc.reaction, sc.owner,
-                                        sc.by_source_offsets, sc.by_source)},
-            {"wall_pressure_stencil",
-             held_bytes(ws.boundary, ws.offsets, ws.fluid, ws.weight, ws.hydrostatic, ws.sample_offsets,
-                        ws.sample_fluid, ws.sample_weight, ws.sample_hydrostatic)},
-            {"step_arrays",
-             held_bytes(boundary_mass_, reaction_, density_stiffness_, divergence_stiffness_, acceleration_)},
-            {"solver_workspace", held_bytes(w.fluid, w.velocity, w.increment, w.stiffness_over_density, w.block_error,
-                                            w.neighbour_counts, w.neighbour_mass)}};
+    MemoryBreakdown breakdown = {
+        {"neighbour_list", held_bytes(neighbours_.offsets, neighbours_.indices)},
+        {"cell_list", cells_.held_bytes()},
+        {"kernel_cache", held_bytes(cache_.value, cache_.gradient, cache_.neighbour_mass)},
+        {"wall_samples", held_bytes(samples_.offsets, samples_.samples)},
+        {"sample_cache",
+         held_bytes(sc.value, sc.gradient, sc.mass, sc.own, sc.reaction, sc.owner, sc.by_source_offsets, sc.by_source)},
+        {"wall_pressure_stencil",
+         held_bytes(ws.boundary, ws.offsets, ws.fluid, ws.weight, ws.hydrostatic, ws.sample_offsets, ws.sample_fluid,
+                    ws.sample_weight, ws.sample_hydrostatic)},
+        {"step_arrays",
+         held_bytes(boundary_mass_, reaction_, density_stiffness_, divergence_stiffness_, acceleration_)},
+        {"solver_workspace", held_bytes(w.fluid, w.velocity, w.increment, w.stiffness_over_density, w.block_error,
+                                        w.neighbour_counts, w.neighbour_mass)}};
+    if (global_density_) append_global_density_memory(breakdown);
+    return breakdown;
+  }
+
+  // density_solver = amg_cg: the surrogate's matrix, its AMG hierarchy, the CG vectors and the
+  // per-particle arrays of the global solve.
+  void append_global_density_memory(MemoryBreakdown& breakdown) const {
+    const GlobalDensityWorkspace& g = global_workspace_;
+    breakdown.push_back({"global_density.matrix", g.matrix.held_bytes()});
+    breakdown.push_back({"global_density.arrays", held_bytes(g.row_of, g.particle_of, g.rhs, g.excess, g.solution,
+                                                             g.neighbour_mass, g.grounded, g.reached) +
+                                                      held_bytes(global_counts_, predicted_velocity_)});
+    breakdown.push_back({"global_density.krylov", g.krylov.held_bytes()});
+    if (g.preconditioner) append_breakdown(breakdown, "global_density.amg", g.preconditioner->memory_breakdown());
   }
 
   // Cell-ordered particles (core/search/cell_order.hpp): what save_state keeps per particle.
