@@ -37,9 +37,9 @@ void mps_lab_register_wall_treatment_akinci_boundary(mps_lab::WallTreatmentRegis
                         "wall layers (from the fluid) that are boundary particles; outer layers are ignored")
           .at_least(1)
           .at_most(10),
-      string_parameter(
-          "volume", "lattice",
-          "volume of a boundary particle: \"akinci\" V_b = 1/sum_k W_bk (Akinci 2012), \"lattice\" V_b = l0^2")
+      string_parameter("volume", "lattice",
+                       "volume of a boundary particle: \"akinci\" V_b = 1/sum_k W_bk (Akinci 2012), \"lattice\" V_b = "
+                       "the fluid particle's volume (l0^2 at m = rho0 l0^2)")
           .one_of({"akinci", "lattice"}),
   };
   info.role = WallTreatmentRole::Boundary;

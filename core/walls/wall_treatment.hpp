@@ -86,7 +86,7 @@ const char* wall_particle_pressure_name(WallParticlePressure model);  // "solved
 
 // The volume V_b a wall particle stands for in the sums of a wall-particle model.
 enum class WallParticleVolume {
-  Lattice,    // V_b = l0^2, the lattice cell
+  Lattice,    // V_b = the fluid particle's volume, the lattice cell (l0^2 at m = rho0 l0^2)
   KernelSum,  // V_b = 1 / sum_k W_bk over the wall particles (Akinci et al. 2012, eq. 4)
 };
 

@@ -150,8 +150,9 @@ class DfsphMethod final : public Method {
     // m sum_lattice W = 1.0009 rho0 with the cubic spline at 2 l0 (run.json:
     // lattice_density_over_rho0); "lattice": m = rho0 / sum_lattice W, so that the initial
     // lattice is at rest density (SPlisHSPlasH scales its particle volume for the same reason).
-    particle_mass_ = p.string("particle_mass") == "lattice" ? rest_density_ / lattice_kernel_sum(kernel_, l0)
-                                                            : rest_density_ * l0 * l0;
+    const bool lattice_mass = p.string("particle_mass") == "lattice";
+    particle_mass_ = lattice_mass ? rest_density_ / lattice_kernel_sum(kernel_, l0) : rest_density_ * l0 * l0;
+    particle_volume_ = lattice_mass ? 1.0 / lattice_kernel_sum(kernel_, l0) : l0 * l0;
     // Loads on obstacles (MethodInfo::obstacle_loads): the reaction on wall particles, when there are both.
     computes_reactions_ = !scene_.walls.obstacles.empty() && walls_.wall_particles();
     // ... and on each obstacle's wall samples (MethodInfo::sample_obstacle_loads).
@@ -237,10 +238,9 @@ class DfsphMethod final : public Method {
     search(particles);
     WallContext context{particles, &neighbours_, scene_.time.time_step, scene_};
     build_samples(context);
-    const double l0 = scene_.particle_spacing;
     compute_kernel_cache(particles, neighbours_, kernel_, cache_);  // the boundary masses need W_bk
     compute_boundary_masses(particles, neighbours_, cache_, boundary_wall_layers_, rest_density_, boundary_volume_,
-                            l0 * l0, boundary_mass_);
+                            lattice_wall_volume(), boundary_mass_);
     cache_kernels(particles);
     auto& volume = particles.field("boundary_volume");
     for (std::size_t i = 0; i < n; ++i) volume[i] = boundary_mass_[i] / rest_density_;
@@ -673,6 +673,14 @@ class DfsphMethod final : public Method {
 
   // W and grad W of every neighbour pair and wall sample, once per step at x^n: every operator
   // and solver iteration of the step reads them.
+  // The volume of a boundary particle of the lattice rule (akinci_boundary's volume "lattice",
+  // dummy_layers), m^2: the fluid particle's, m / rho0 (l0^2, or 1 / sum_lattice W with
+  // particle_mass "lattice"). A wall row then weighs what a fluid row weighs, so a uniform
+  // stiffness exerts no force on the fluid next to a wall (the global solve's Neumann wall);
+  // with l0^2 walls and lattice fluid a column 1419 particles high diverged at step 2
+  // (docs/methods/dfsph.md, "A density solve with global reach").
+  double lattice_wall_volume() const { return particle_volume_; }
+
   void cache_kernels(const ParticleSet& particles) {
     const double l0 = scene_.particle_spacing;
     if (!particles.wall_velocity.empty() && boundary_volume_ == BoundaryVolume::Akinci) {
@@ -680,7 +688,7 @@ class DfsphMethod final : public Method {
       // they move, so it is summed again at the wall positions of this step.
       compute_kernel_cache(particles, neighbours_, kernel_, cache_);
       compute_boundary_masses(particles, neighbours_, cache_, boundary_wall_layers_, rest_density_, boundary_volume_,
-                              l0 * l0, boundary_mass_);
+                              lattice_wall_volume(), boundary_mass_);
     }
     compute_kernel_cache(particles, neighbours_, kernel_, particle_mass_, boundary_mass_, cache_);
     compute_sample_cache(particles, samples_, kernel_, rest_density_, l0 * l0, sample_cache_);
@@ -712,6 +720,7 @@ class DfsphMethod final : public Method {
   SphKernel kernel_;
   double rest_density_ = 1000.0;         // kg/m^3
   double particle_mass_ = 0.0;           // kg/m
+  double particle_volume_ = 0.0;         // m^2, particle_mass_ / rho0
   TimeStepSettings time_step_settings_;  // core/run/time_step.hpp
   SolverSettings density_settings_, divergence_settings_;
   bool divergence_enabled_ = true;
