@@ -160,6 +160,7 @@ class DfsphMethod final : public Method {
     time_step_settings_ = time_step_settings(p, scene_.time.time_step, scene_.source);
     const double warm_start_fraction = p.number("warm_start_fraction");
     density_settings_ = solver_settings(p, "density", warm_start_fraction);
+    density_settings_.local_tolerance = p.number("density_local_tolerance");
     divergence_settings_ = solver_settings(p, "divergence", warm_start_fraction);
     divergence_enabled_ = p.boolean("divergence_solver");
     full_neighbour_count_ = lattice_neighbour_count(kernel_.support(), l0);
@@ -393,7 +394,7 @@ class DfsphMethod final : public Method {
         {"step_arrays",
          held_bytes(boundary_mass_, reaction_, density_stiffness_, divergence_stiffness_, acceleration_)},
         {"solver_workspace", held_bytes(w.fluid, w.velocity, w.increment, w.stiffness_over_density, w.block_error,
-                                        w.neighbour_counts, w.neighbour_mass)}};
+                                        w.block_largest, w.neighbour_counts, w.neighbour_mass)}};
     if (global_density_) append_global_density_memory(breakdown);
     return breakdown;
   }
@@ -779,6 +780,11 @@ std::vector<mps_lab::ParameterSpec> dfsph_parameters() {
       number_parameter("density_tolerance", 1.0e-4, "",
                        "density solver stops at mean max(rho* - rho0, 0)/rho0 below this (BK17: 0.01 %)")
           .above(0.0)
+          .below(1.0),
+      number_parameter("density_local_tolerance", 0.0, "",
+                       "density solver also iterates until every particle's max(rho* - rho0, 0)/rho0 is at most this "
+                       "(0: off, BK17's mean alone)")
+          .at_least(0.0)
           .below(1.0),
       integer_parameter("density_min_iterations", 2, "density solver: at least this many iterations (BK17: 2)")
           .at_least(0)

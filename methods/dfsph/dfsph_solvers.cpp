@@ -35,6 +35,7 @@ const double* prepare(const ParticleSet& particles, const SphSystem& system, std
     if (!fluid) stiffness[i] = 0.0;
   }
   w.block_error.resize((w.fluid.size() + kErrorBlock - 1) / kErrorBlock);
+  w.block_largest.resize(w.block_error.size());
   if (system.kernel.neighbour_mass.size() == n) return system.kernel.neighbour_mass.data();
   w.neighbour_mass.resize(n);  // as compute_kernel_cache with the masses
   for (std::size_t j = 0; j < n; ++j) {
@@ -54,6 +55,7 @@ struct IterationArrays {
   double* s;                       // stiffness over density
   double* increment;               // pending stiffness increments, m^2/s^2
   double* block_error;             // per block of kErrorBlock fluid particles
+  double* block_largest;           // the largest relative error, per block
   const WallSampleList* samples;   // null without wall samples
   const SampleCache* sample;
   const WallPressureStencil* wall_pressure;  // null: wall_pressure = mirrored
@@ -75,6 +77,7 @@ IterationArrays iteration_arrays(ParticleSet& particles, const SphSystem& system
   arrays.s = w.stiffness_over_density.data();
   arrays.increment = w.increment.data();
   arrays.block_error = w.block_error.data();
+  arrays.block_largest = w.block_largest.data();
   arrays.samples = system.has_samples() ? system.samples : nullptr;
   arrays.sample = system.sample_kernel;
   arrays.wall_pressure = system.wall_pressure;
@@ -171,15 +174,21 @@ void correct(const IterationArrays& a, double dt, std::vector<double>& stiffness
 
 // predict: D rho_i/Dt = sum_j c_ij . (v_i - v_j) = sum_j m (v_i - v_j) . grad W_ij + sum_b Psi_b v_i . grad W_ib
 // ([BK17] eq. (9); v_b = 0; + the wall samples), the error of i and its next increment;
-// returns the mean error (block sums in block order: the same on every thread and for every
-// thread count). The x and y products are summed apart, in two partial sums as above.
-// Called by every thread of the solver's parallel region (an orphaned omp for).
+// returns the mean and the largest error (block sums in block order: the same on every thread
+// and for every thread count). The x and y products are summed apart, in two partial sums as
+// above. Called by every thread of the solver's parallel region (an orphaned omp for).
+struct IterationError {
+  double mean = 0.0;
+  double largest = 0.0;
+};
+
 template <class Settle>
-double predict(const IterationArrays& a, const std::vector<double>& density, const SolverWorkspace& w, Settle& settle) {
+IterationError predict(const IterationArrays& a, const std::vector<double>& density, const SolverWorkspace& w,
+                       Settle& settle) {
 #pragma omp for schedule(static)
   for (std::ptrdiff_t block = 0; block < a.blocks; ++block) {
     const std::ptrdiff_t last = block_last(a, block);
-    double error_sum = 0.0;
+    double error_sum = 0.0, largest = 0.0;
     for (std::ptrdiff_t f = block_first(block); f < last; ++f) {
       const std::uint32_t i = a.fluid[f];
       const Vec2 vi = a.velocity[i];
@@ -198,12 +207,25 @@ double predict(const IterationArrays& a, const std::vector<double>& density, con
       a.increment[i] = change;
       a.s[i] = change / density[i];
       error_sum += relative;
+      largest = std::max(largest, relative);
     }
     a.block_error[block] = error_sum;
+    a.block_largest[block] = largest;
   }
-  double total = 0.0;
-  for (std::ptrdiff_t block = 0; block < a.blocks; ++block) total += a.block_error[block];
-  return a.fluid_count > 0 ? total / static_cast<double>(a.fluid_count) : 0.0;
+  IterationError error;
+  for (std::ptrdiff_t block = 0; block < a.blocks; ++block) {
+    error.mean += a.block_error[block];
+    error.largest = std::max(error.largest, a.block_largest[block]);
+  }
+  if (a.fluid_count > 0) error.mean /= static_cast<double>(a.fluid_count);
+  return error;
+}
+
+// The stopping rule: the mean error at most the tolerance ([BK17]) and, with a local
+// tolerance, every particle's error at most that.
+bool within_tolerance(const IterationError& error, const SolverSettings& settings) {
+  return error.mean <= settings.tolerance &&
+         (settings.local_tolerance <= 0.0 || error.largest <= settings.local_tolerance);
 }
 
 // Warm start ([BK17]; the fraction and the reset are the authors' code's): apply the last
@@ -240,16 +262,16 @@ SolverOutcome iterate(ParticleSet& particles, const SphSystem& system, const std
   SolverOutcome outcome;
 #pragma omp parallel if (arrays.fluid_count >= kThreadedLoopMinimum)
   {
-    double error = predict(arrays, density, w, settle);
+    IterationError error = predict(arrays, density, w, settle);
     start_stiffness(arrays, density, settings, stiffness);
     if (warm) {
       correct(arrays, dt, stiffness);
       error = predict(arrays, density, w, settle);
     }
-    const double initial_error = error;
+    const double initial_error = error.mean;
     long long iterations = 0;  // every thread runs the same loop on the same error
     while (iterations < settings.max_iterations &&
-           (iterations < settings.min_iterations || error > settings.tolerance)) {
+           (iterations < settings.min_iterations || !within_tolerance(error, settings))) {
       correct(arrays, dt, stiffness);
       error = predict(arrays, density, w, settle);
       ++iterations;
@@ -258,8 +280,9 @@ SolverOutcome iterate(ParticleSet& particles, const SphSystem& system, const std
     {
       outcome.iterations = iterations;
       outcome.initial_error = initial_error;
-      outcome.error = error;
-      outcome.converged = error <= settings.tolerance;
+      outcome.error = error.mean;
+      outcome.largest_error = error.largest;
+      outcome.converged = within_tolerance(error, settings);
       for (std::ptrdiff_t f = 0; f < arrays.fluid_count; ++f) {
         particles.velocity[arrays.fluid[f]] = arrays.velocity[arrays.fluid[f]];
       }
