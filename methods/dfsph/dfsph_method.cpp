@@ -767,10 +767,38 @@ class DfsphMethod final : public Method {
 
 namespace {
 
+// The density solver's choice and the parameters of the global solve (density_solver amg_cg).
+std::vector<mps_lab::ParameterSpec> global_density_parameters() {
+  using namespace mps_lab;
+  return {
+      string_parameter("density_solver", "relaxed_jacobi",
+                       "relaxed_jacobi (BK17 Algorithm 3) or amg_cg: the density constraints as one linear system, "
+                       "solved by AMG-preconditioned conjugate gradients, then finished by the relaxed Jacobi "
+                       "iteration (global reach; docs/methods/dfsph.md 'A density solve with global reach')")
+          .one_of({"amg_cg", "relaxed_jacobi"}),
+      number_parameter("density_cg_tolerance", dfsph::kDefaultCgTolerance, "",
+                       "amg_cg: relative residual ||b - A s|| / ||b|| at which the linear solve stops")
+          .above(0.0)
+          .below(1.0),
+      integer_parameter("density_cg_max_iterations", dfsph::kDefaultCgIterations, "amg_cg: CG iteration cap")
+          .at_least(1)
+          .at_most(100000),
+      integer_parameter("density_cg_cycles", dfsph::kDefaultCgCycles,
+                        "amg_cg: at most this many cycles of a global correction and relaxed Jacobi iterations")
+          .at_least(1)
+          .at_most(1000),
+      integer_parameter("density_cg_smoothing", dfsph::kDefaultCgSmoothing,
+                        "amg_cg: relaxed Jacobi iterations after each global correction, a smoother (the last cycle: "
+                        "at least this many, up to density_max_iterations)")
+          .at_least(1)
+          .at_most(100000),
+  };
+}
+
 // The parameters of methods.dfsph (core/base/parameters.hpp), documented in docs/methods/dfsph.md.
 std::vector<mps_lab::ParameterSpec> dfsph_parameters() {
   using namespace mps_lab;
-  return {
+  std::vector<ParameterSpec> parameters{
       string_parameter("kernel", "cubic_spline", "SPH kernel (BK17: cubic spline)")
           .one_of({"cubic_spline", "wendland_c2"}),
       number_parameter("kernel_support", 2.0, "l0",
@@ -816,27 +844,6 @@ std::vector<mps_lab::ParameterSpec> dfsph_parameters() {
                        "spacing (m = rho0 l0^2: the lattice's SPH density is 1.0009 rho0 with the default kernel) or "
                        "lattice (m = rho0 / sum_lattice W: the initial lattice is at rest density)")
           .one_of({"lattice", "spacing"}),
-      string_parameter("density_solver", "relaxed_jacobi",
-                       "relaxed_jacobi (BK17 Algorithm 3) or amg_cg: the density constraints as one linear system, "
-                       "solved by AMG-preconditioned conjugate gradients, then finished by the relaxed Jacobi "
-                       "iteration (global reach; docs/methods/dfsph.md 'A density solve with global reach')")
-          .one_of({"amg_cg", "relaxed_jacobi"}),
-      number_parameter("density_cg_tolerance", dfsph::kDefaultCgTolerance, "",
-                       "amg_cg: relative residual ||b - A s|| / ||b|| at which the linear solve stops")
-          .above(0.0)
-          .below(1.0),
-      integer_parameter("density_cg_max_iterations", dfsph::kDefaultCgIterations, "amg_cg: CG iteration cap")
-          .at_least(1)
-          .at_most(100000),
-      integer_parameter("density_cg_cycles", dfsph::kDefaultCgCycles,
-                        "amg_cg: at most this many cycles of a global correction and relaxed Jacobi iterations")
-          .at_least(1)
-          .at_most(1000),
-      integer_parameter("density_cg_smoothing", dfsph::kDefaultCgSmoothing,
-                        "amg_cg: relaxed Jacobi iterations after each global correction, a smoother (the last cycle: "
-                        "at least this many, up to density_max_iterations)")
-          .at_least(1)
-          .at_most(100000),
       string_parameter("initial_stiffness", "zero",
                        "the density solver's stiffness before the first step: zero (cold start) or hydrostatic (|g| "
                        "times the depth below the nearest free surface, applied in full by the first solve)")
@@ -850,6 +857,8 @@ std::vector<mps_lab::ParameterSpec> dfsph_parameters() {
                         "wall samples (boundary models without wall particles): add the hydrostatic part "
                         "rho0 g.(x_w - x_s) of their pressure as an explicit force (measured harmful)"),
   };
+  for (ParameterSpec& spec : global_density_parameters()) parameters.push_back(std::move(spec));
+  return parameters;
 }
 
 }  // namespace
