@@ -505,14 +505,19 @@ void AmgPreconditioner::factorise_coarsest() {
 
 // The V-cycle runs in the team of the caller's parallel region (apply_in_team: every thread
 // calls it; the Krylov iterations run in one region) or in one region of its own (apply). Each
-// loop is an orphaned worksharing construct with its barrier at the end: a level of
-// kParallelRows rows or more is split among the threads, a smaller one is done by one of them.
-// The rows' results do not depend on the split, so the bits do not depend on the thread count.
+// loop of a level of kParallelRows rows or more is an orphaned worksharing construct split among
+// the threads, with its barrier at the end. The levels below that size are cycled by one thread
+// of the team inside a single `single` (Sharing::serial below it: plain loops), so they cost the
+// team one barrier per cycle together, where a `single` per loop cost one per loop (six per
+// level). The rows' results do not depend on the split, so the bits do not depend on the thread
+// count.
 namespace {
 
 template <typename Body>
-void for_rows(int rows, Body&& body) {
-  if (rows >= kParallelRows) {
+void for_rows(int rows, AmgPreconditioner::Sharing sharing, Body&& body) {
+  if (sharing == AmgPreconditioner::Sharing::serial) {
+    for (int r = 0; r < rows; ++r) body(r);
+  } else if (rows >= kParallelRows) {
 #pragma omp for schedule(static)
     for (int r = 0; r < rows; ++r) body(r);
   } else {
@@ -523,33 +528,41 @@ void for_rows(int rows, Body&& body) {
 
 }  // namespace
 
-void AmgPreconditioner::solve_coarsest(const double* rhs, double* solution) const {
+void AmgPreconditioner::solve_coarsest(const double* rhs, double* solution, Sharing sharing) const {
   const std::size_t level = level_count_ - 1;
   const CsrMatrix& a = level_matrix(level);
   const auto size = static_cast<std::size_t>(a.rows);
   if (coarsest_factors_.size() != size * size) {  // too large to factorise: smoothing only
-    smooth(level, rhs, solution, true);
-    for (int i = 1; i < kCoarsestFallbackSmoothings; ++i) smooth(level, rhs, solution, false);
+    smooth(level, rhs, solution, true, sharing);
+    for (int i = 1; i < kCoarsestFallbackSmoothings; ++i) smooth(level, rhs, solution, false, sharing);
     return;
   }
-  const double* lu = coarsest_factors_.data();
+  if (sharing == Sharing::serial) {
+    substitute_coarsest(rhs, solution);
+    return;
+  }
 #pragma omp single
-  {
-    for (std::size_t i = 0; i < size; ++i) {
-      double sum = rhs[i];
-      for (std::size_t j = 0; j < i; ++j) sum -= lu[i * size + j] * solution[j];
-      solution[i] = sum;
+  substitute_coarsest(rhs, solution);
+}
+
+// The dense LU factors' forward and back substitution, by the calling thread.
+void AmgPreconditioner::substitute_coarsest(const double* rhs, double* solution) const {
+  const auto size = static_cast<std::size_t>(level_matrix(level_count_ - 1).rows);
+  const double* lu = coarsest_factors_.data();
+  for (std::size_t i = 0; i < size; ++i) {
+    double sum = rhs[i];
+    for (std::size_t j = 0; j < i; ++j) sum -= lu[i * size + j] * solution[j];
+    solution[i] = sum;
+  }
+  for (std::size_t i = size; i-- > 0;) {
+    const double pivot = lu[i * size + i];
+    if (pivot == 0.0) {
+      solution[i] = 0.0;
+      continue;
     }
-    for (std::size_t i = size; i-- > 0;) {
-      const double pivot = lu[i * size + i];
-      if (pivot == 0.0) {
-        solution[i] = 0.0;
-        continue;
-      }
-      double sum = solution[i];
-      for (std::size_t j = i + 1; j < size; ++j) sum -= lu[i * size + j] * solution[j];
-      solution[i] = sum / pivot;
-    }
+    double sum = solution[i];
+    for (std::size_t j = i + 1; j < size; ++j) sum -= lu[i * size + j] * solution[j];
+    solution[i] = sum / pivot;
   }
 }
 
@@ -564,11 +577,25 @@ inline double residual_row(const CsrMatrix& a, const double* rhs, const double* 
 
 }  // namespace
 
+// 1/theta: the first Chebyshev step's scale, theta the centre of [rho / ratio, rho].
+double AmgPreconditioner::chebyshev_inverse_centre(const Level& current) const {
+  const double upper = current.spectral_bound;
+  const double lower = upper / options_.chebyshev_ratio;
+  return 1.0 / (0.5 * (upper + lower));
+}
+
+// The degree-1 Chebyshev smoother (the default) is one step x += D^-1 (rhs - A x) / theta, which
+// the cycle fuses with the loop before it (fused_cycle_step).
+bool AmgPreconditioner::single_step_smoother() const {
+  return options_.smoother == AmgSmoother::chebyshev && options_.smoother_sweeps == 1;
+}
+
 // Smoother for A x = rhs on `level`: a Chebyshev polynomial in D^-1 A on [rho / ratio, rho]
 // (the three-term recurrence of Saad, Iterative Methods for Sparse Linear Systems, 2nd ed.,
 // algorithm 12.1, preconditioned by D), or damped Jacobi. zero_initial: solution starts at 0
 // (its content is ignored and the first product with A is skipped). Called by the team.
-void AmgPreconditioner::smooth(std::size_t level, const double* rhs, double* solution, bool zero_initial) const {
+void AmgPreconditioner::smooth(std::size_t level, const double* rhs, double* solution, bool zero_initial,
+                               Sharing sharing) const {
   const Level& current = levels_[level];
   const CsrMatrix& a = level_matrix(level);
   const int rows = a.rows;
@@ -582,30 +609,31 @@ void AmgPreconditioner::smooth(std::size_t level, const double* rhs, double* sol
     const double weight = (4.0 / 3.0) / upper;
     for (int step = 0; step < steps; ++step) {
       if (zero_initial && step == 0) {  // x = w D^-1 rhs
-        for_rows(rows, [&](int r) { solution[r] = weight * (inverse_diagonal[r] * rhs[r]); });
+        for_rows(rows, sharing, [&](int r) { solution[r] = weight * (inverse_diagonal[r] * rhs[r]); });
         continue;
       }
       // scaled_residual = D^-1 (rhs - A x) for every row first (x is read by the neighbours' rows).
-      for_rows(rows, [&](int r) { scaled_residual[r] = inverse_diagonal[r] * residual_row(a, rhs, solution, r); });
-      for_rows(rows, [&](int r) { solution[r] += weight * scaled_residual[r]; });
+      for_rows(rows, sharing,
+               [&](int r) { scaled_residual[r] = inverse_diagonal[r] * residual_row(a, rhs, solution, r); });
+      for_rows(rows, sharing, [&](int r) { solution[r] += weight * scaled_residual[r]; });
     }
     return;
   }
 
   const double lower = upper / options_.chebyshev_ratio;
-  const double centre = 0.5 * (upper + lower);      // theta
   const double half_width = 0.5 * (upper - lower);  // delta
-  const double sigma = centre / half_width;
+  const double sigma = 0.5 * (upper + lower) / half_width;
   double rho_old = 1.0 / sigma;
-  const double inverse_centre = 1.0 / centre;
+  const double inverse_centre = chebyshev_inverse_centre(current);
   if (zero_initial) {  // d = D^-1 rhs / theta, x = d: one pass
-    for_rows(rows, [&](int r) {
+    for_rows(rows, sharing, [&](int r) {
       direction[r] = inverse_centre * (inverse_diagonal[r] * rhs[r]);
       solution[r] = direction[r];
     });
   } else {
-    for_rows(rows, [&](int r) { scaled_residual[r] = inverse_diagonal[r] * residual_row(a, rhs, solution, r); });
-    for_rows(rows, [&](int r) {
+    for_rows(rows, sharing,
+             [&](int r) { scaled_residual[r] = inverse_diagonal[r] * residual_row(a, rhs, solution, r); });
+    for_rows(rows, sharing, [&](int r) {
       direction[r] = inverse_centre * scaled_residual[r];
       solution[r] += direction[r];
     });
@@ -614,8 +642,9 @@ void AmgPreconditioner::smooth(std::size_t level, const double* rhs, double* sol
     const double rho_new = 1.0 / (2.0 * sigma - rho_old);
     const double keep = rho_new * rho_old;
     const double push = 2.0 * rho_new / half_width;
-    for_rows(rows, [&](int r) { scaled_residual[r] = inverse_diagonal[r] * residual_row(a, rhs, solution, r); });
-    for_rows(rows, [&](int r) {
+    for_rows(rows, sharing,
+             [&](int r) { scaled_residual[r] = inverse_diagonal[r] * residual_row(a, rhs, solution, r); });
+    for_rows(rows, sharing, [&](int r) {
       direction[r] = keep * direction[r] + push * scaled_residual[r];
       solution[r] += direction[r];
     });
@@ -628,7 +657,7 @@ void AmgPreconditioner::smooth(std::size_t level, const double* rhs, double* sol
 // zero entry past its rows). The work is R's nonzeros, about one per fine row: split as the fine
 // level is (a coarse count of ~400 at 4e3 fine rows ran on one thread while the other waited).
 void AmgPreconditioner::restrict_residual(const Level& current, const double* residual, bool mapped, int fine_rows,
-                                          double* coarse_rhs) const {
+                                          double* coarse_rhs, Sharing sharing) const {
   const CsrMatrix& restriction = current.restriction;
   const int coarse_rows = restriction.rows;
   const int* row_of_base = row_of_base_row_.data();
@@ -643,54 +672,111 @@ void AmgPreconditioner::restrict_residual(const Level& current, const double* re
     }
     coarse_rhs[c] = sum;
   };
-  if (fine_rows >= kParallelRows) {
+  if (sharing == Sharing::team && fine_rows >= kParallelRows) {
 #pragma omp for schedule(static)
     for (int c = 0; c < coarse_rows; ++c) restrict_row(c);
   } else {
-    for_rows(coarse_rows, restrict_row);
+    for_rows(coarse_rows, sharing, restrict_row);
   }
 }
 
-// solution += scaling P coarse. `mapped`: row r takes P's row of its base row (base_row_of_row_),
-// none when it has none (a row new since the setup is left to the smoother).
+// prolonged = solution + scaling P coarse. `mapped`: row r takes P's row of its base row
+// (base_row_of_row_), none when it has none (a row new since the setup is left to the smoother).
+// `prolonged` may be `solution` (in place).
 void AmgPreconditioner::prolong_correction(const Level& current, const double* coarse, bool mapped, int rows,
-                                           double* solution) const {
+                                           const double* solution, double* prolonged, Sharing sharing) const {
   const CsrMatrix& p = current.prolongator;
   const double scaling = options_.coarse_correction_scaling;
   const int* base_of = base_row_of_row_.data();
-  for_rows(rows, [&](int r) {
+  for_rows(rows, sharing, [&](int r) {
     const int source = mapped ? base_of[r] : r;
-    if (source < 0) return;
+    if (source < 0) {
+      prolonged[r] = solution[r];
+      return;
+    }
     double correction = 0.0;
     for (int k = p.row_start[source]; k < p.row_start[source + 1]; ++k) correction += p.value[k] * coarse[p.column[k]];
-    solution[r] += scaling * correction;
+    prolonged[r] = solution[r] + scaling * correction;
   });
 }
 
-void AmgPreconditioner::cycle(std::size_t level, const double* rhs, double* solution) const {
+// The degree-1 pre-smoothing step from zero, x = D^-1 rhs / theta, and the residual rhs - A x
+// in one loop: each row computes its neighbours' x itself (the same product, so the same bits as
+// a loop for x and one for the residual, without the barrier between them).
+void AmgPreconditioner::presmooth_with_residual(std::size_t level, const double* rhs, double* solution,
+                                                double* residual, Sharing sharing) const {
+  const Level& current = levels_[level];
+  const CsrMatrix& a = level_matrix(level);
+  const double* inverse_diagonal = current.inverse_diagonal.data();
+  const double inverse_centre = chebyshev_inverse_centre(current);
+  for_rows(a.rows, sharing, [&](int r) {
+    solution[r] = inverse_centre * (inverse_diagonal[r] * rhs[r]);
+    double product = 0.0;
+    for (int k = a.row_start[r]; k < a.row_start[r + 1]; ++k) {
+      const int c = a.column[k];
+      product += a.value[k] * (inverse_centre * (inverse_diagonal[c] * rhs[c]));
+    }
+    residual[r] = rhs[r] - product;
+  });
+}
+
+// The degree-1 post-smoothing step x = y + D^-1 (rhs - A y) / theta from the prolonged y, kept
+// apart from x so that each row reads its neighbours' y while the others write x: one loop where
+// smoothing in place needs two (the scaled residual of every row, then the update).
+void AmgPreconditioner::postsmooth_from(std::size_t level, const double* rhs, const double* prolonged, double* solution,
+                                        Sharing sharing) const {
+  const Level& current = levels_[level];
+  const CsrMatrix& a = level_matrix(level);
+  const double* inverse_diagonal = current.inverse_diagonal.data();
+  const double inverse_centre = chebyshev_inverse_centre(current);
+  for_rows(a.rows, sharing, [&](int r) {
+    solution[r] = prolonged[r] + inverse_centre * (inverse_diagonal[r] * residual_row(a, rhs, prolonged, r));
+  });
+}
+
+// One V-cycle from `level` down. With the single-step smoother (the default) a level costs the
+// team four loops: the pre-smoothing step with the residual, the restriction, the prolongation
+// into the level's `direction`, and the post-smoothing step from it; otherwise six. A level
+// below kParallelRows rows and all beneath it are cycled by one thread (one `single`).
+void AmgPreconditioner::cycle(std::size_t level, const double* rhs, double* solution, Sharing sharing) const {
   if (level + 1 == level_count_) {
-    solve_coarsest(rhs, solution);
+    solve_coarsest(rhs, solution, sharing);
     return;
   }
   const Level& current = levels_[level];
-  const Level& next = levels_[level + 1];
   const CsrMatrix& a = level_matrix(level);
   const int rows = a.rows;
-  smooth(level, rhs, solution, true);
-  // residual = rhs - A solution; coarse rhs = R residual.
-  double* residual = current.residual.data();
-  for_rows(rows, [&](int r) { residual[r] = residual_row(a, rhs, solution, r); });
+  if (sharing == Sharing::team && rows < kParallelRows) {
+#pragma omp single
+    cycle(level, rhs, solution, Sharing::serial);
+    return;
+  }
+  const Level& next = levels_[level + 1];
   const bool mapped = level == 0 && refreshed_;
-  restrict_residual(current, residual, mapped, rows, next.rhs.data());
-  cycle(level + 1, next.rhs.data(), next.solution.data());
-  prolong_correction(current, next.solution.data(), mapped, rows, solution);
-  smooth(level, rhs, solution, false);
+  double* residual = current.residual.data();
+  const bool fused = single_step_smoother();
+  if (fused) {
+    presmooth_with_residual(level, rhs, solution, residual, sharing);
+  } else {
+    smooth(level, rhs, solution, true, sharing);
+    for_rows(rows, sharing, [&](int r) { residual[r] = residual_row(a, rhs, solution, r); });
+  }
+  restrict_residual(current, residual, mapped, rows, next.rhs.data(), sharing);
+  cycle(level + 1, next.rhs.data(), next.solution.data(), sharing);
+  if (fused) {
+    double* prolonged = current.direction.data();
+    prolong_correction(current, next.solution.data(), mapped, rows, solution, prolonged, sharing);
+    postsmooth_from(level, rhs, prolonged, solution, sharing);
+  } else {
+    prolong_correction(current, next.solution.data(), mapped, rows, solution, solution, sharing);
+    smooth(level, rhs, solution, false, sharing);
+  }
 }
 
 void AmgPreconditioner::apply_in_team(const double* residual, double* result) const {
   if (fine_matrix_ == nullptr) throw std::logic_error("AmgPreconditioner::apply before setup");
   if (fine_matrix_->rows == 0) return;
-  cycle(0, residual, result);
+  cycle(0, residual, result, Sharing::team);
 }
 
 void AmgPreconditioner::apply(const double* residual, double* result) const {
@@ -699,7 +785,7 @@ void AmgPreconditioner::apply(const double* residual, double* result) const {
     // One region for the whole cycle (its loops' barriers instead of a region per loop); a level
     // below kParallelRows rows is done by one thread of it.
 #pragma omp parallel if (fine_matrix_->rows >= kParallelRows)
-  cycle(0, residual, result);
+  cycle(0, residual, result, Sharing::team);
 }
 
 namespace {

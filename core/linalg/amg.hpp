@@ -141,6 +141,11 @@ class AmgPreconditioner final : public Preconditioner {
   MemoryBreakdown memory_breakdown() const override;
   const AmgOptions& options() const { return options_; }
 
+  // How a loop of the V-cycle runs: as a worksharing construct of the calling team (a level's
+  // rows split among the threads, or one thread of them below a size), or as a plain loop of the
+  // one thread that cycles every small level (inside the team's `single`).
+  enum class Sharing { team, serial };
+
  private:
   struct Level {
     CsrMatrix matrix;       // coarse levels only (level 0 uses *fine_matrix_)
@@ -156,12 +161,20 @@ class AmgPreconditioner final : public Preconditioner {
   void prepare_smoother(std::size_t level, const CsrMatrix& a);
   void build_level(std::size_t level);
   void factorise_coarsest();
-  void solve_coarsest(const double* rhs, double* solution) const;
-  void smooth(std::size_t level, const double* rhs, double* solution, bool zero_initial) const;
-  void cycle(std::size_t level, const double* rhs, double* solution) const;
-  void restrict_residual(const Level& current, const double* residual, bool mapped, int fine_rows,
-                         double* coarse_rhs) const;
-  void prolong_correction(const Level& current, const double* coarse, bool mapped, int rows, double* solution) const;
+  void solve_coarsest(const double* rhs, double* solution, Sharing sharing) const;
+  void substitute_coarsest(const double* rhs, double* solution) const;
+  double chebyshev_inverse_centre(const Level& current) const;
+  bool single_step_smoother() const;
+  void smooth(std::size_t level, const double* rhs, double* solution, bool zero_initial, Sharing sharing) const;
+  void presmooth_with_residual(std::size_t level, const double* rhs, double* solution, double* residual,
+                               Sharing sharing) const;
+  void postsmooth_from(std::size_t level, const double* rhs, const double* prolonged, double* solution,
+                       Sharing sharing) const;
+  void cycle(std::size_t level, const double* rhs, double* solution, Sharing sharing) const;
+  void restrict_residual(const Level& current, const double* residual, bool mapped, int fine_rows, double* coarse_rhs,
+                         Sharing sharing) const;
+  void prolong_correction(const Level& current, const double* coarse, bool mapped, int rows, const double* solution,
+                          double* prolonged, Sharing sharing) const;
 
   AmgOptions options_;
   const CsrMatrix* fine_matrix_ = nullptr;
