@@ -14,20 +14,18 @@ MemoryBreakdown PressurePoissonSolver::memory_breakdown() const {
                                   held_bytes(row_of_, particle_of_, grounded_, reached_, rhs_), solver_);
 }
 
+// An upper bound of row i's entries (the assembler closes up what assemble_row leaves unused):
+// the diagonal and every pressure-carrying neighbour and wall sample that is an unknown. The
+// neighbour list holds the pairs within the search radius, re of the Laplacian or more, so the
+// bound is the count itself unless another operator's radius is larger; no distances here.
 int PressurePoissonSolver::row_count(const RowInputs& in, std::size_t i) const {
   const ParticleSet& particles = in.particles;
-  const Vec2& x = particles.position[i];
-  const double re = in.laplacian.re;  // a_ij = 0 from re on (spec §2; the HL term likewise)
   int count = 1;
   for_each_neighbour(in.neighbours, i, [&](std::uint32_t j) {
-    count += in.carries_pressure[j] && particles.type[j] != ParticleType::Ghost && row_of_[j] >= 0 &&
-                     (particles.position[j] - x).norm() < re
-                 ? 1
-                 : 0;
+    count += in.carries_pressure[j] && particles.type[j] != ParticleType::Ghost && row_of_[j] >= 0 ? 1 : 0;
   });
-  for_each_neighbour(in.samples, i, [&](const WallSample& wall) {
-    count += wall.source != i && row_of_[wall.source] >= 0 && (wall.position - x).norm() < re ? 1 : 0;
-  });
+  for_each_neighbour(in.samples, i,
+                     [&](const WallSample& wall) { count += wall.source != i && row_of_[wall.source] >= 0 ? 1 : 0; });
   return count;
 }
 
