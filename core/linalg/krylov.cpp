@@ -100,14 +100,6 @@ void multiply_dot_in_team(const CsrMatrix& matrix, const double* x, const double
   });
 }
 
-// out = A x, returns shadow . out.
-double multiply_dot_with(const CsrMatrix& matrix, const double* x, const double* shadow, double* out,
-                         std::vector<double>& partial) {
-#pragma omp parallel
-  multiply_dot_in_team(matrix, x, shadow, out, partial.data());
-  return sum_in_order(partial.data(), block_count(matrix.rows));
-}
-
 // residual = rhs - A x, returns ||residual||^2.
 double residual_norm2(const CsrMatrix& matrix, const double* rhs, const double* x, double* residual,
                       std::vector<double>& partial) {
@@ -469,21 +461,12 @@ BicgstabVectors bicgstab_vectors(KrylovWorkspace& work, int rows) {
           work.residual.data(), work.t.data(),      work.y.data(),         work.z.data()};
 }
 
-// t = A z, returns t.t and t.s (one pass).
-std::pair<double, double> multiply_two_dots(const CsrMatrix& matrix, const double* z, const double* s, double* t,
-                                            std::vector<double>& partial) {
-  return blocked_row_products(matrix, z, partial, [&](int i, double row_sum, double& tt, double& ts) {
-    t[i] = row_sum;
-    tt += row_sum * row_sum;
-    ts += row_sum * s[i];
-  });
-}
-
-// x += alpha y + omega z, r = s - omega t; returns ||r||^2 and r0 . r (one pass).
-std::pair<double, double> bicgstab_update(double alpha, double omega, const BicgstabVectors& vec, int rows, double* x,
-                                          std::vector<double>& partial) {
+// x += alpha y + omega z, r = s - omega t, in one pass of the team; partial[b] = the block's
+// ||r||^2 terms, partial[blocks + b] its r0 . r terms.
+void bicgstab_update_in_team(double alpha, double omega, const BicgstabVectors& vec, int rows, double* x,
+                             double* partial) {
   const int blocks = block_count(rows);
-#pragma omp parallel for schedule(static)
+#pragma omp for schedule(static)
   for (int b = 0; b < blocks; ++b) {
     const BlockRange range = block_range(b, rows);
     double rr = 0.0, r0r = 0.0;
@@ -494,10 +477,82 @@ std::pair<double, double> bicgstab_update(double alpha, double omega, const Bicg
       rr += ri * ri;
       r0r += vec.r0[i] * ri;
     }
-    partial[static_cast<std::size_t>(b)] = rr;
-    partial[static_cast<std::size_t>(blocks + b)] = r0r;
+    partial[b] = rr;
+    partial[blocks + b] = r0r;
   }
-  return sum_pairs_in_order(partial.data(), blocks);  // ||r||^2, r0 . r
+}
+
+// Why a start of BiCGSTAB ended.
+enum class BicgstabEnd { converged_or_budget, breakdown, not_finite };
+
+// The iterations of one start of BiCGSTAB (r = b - A x, r0 = p = r, rho = r0 . r = norm2), in
+// one parallel region as the CG iterations are (cg_iterations): every loop, the two V-cycles
+// included, is an orphaned worksharing loop of the region; every thread adds the block sums
+// itself, in block order, so all take the same branch; each of the three reductions of an
+// iteration has its own part of `partial` (5 x blocks entries).
+BicgstabEnd bicgstab_iterations(const CsrMatrix& matrix, double* x, const Preconditioner& preconditioner, double norm2,
+                                double threshold, long long max_iterations, const BicgstabVectors& vec, double* partial,
+                                long long& iterations_done) {
+  const int rows = matrix.rows;
+  const int blocks = block_count(rows);
+  const double eps2 = std::numeric_limits<double>::epsilon() * std::numeric_limits<double>::epsilon();
+  double* v_partial = partial;                    // r0 . v
+  double* t_partial = partial + blocks;           // t . t, t . s
+  double* update_partial = partial + 3 * blocks;  // ||r||^2, r0 . r
+  BicgstabEnd end = BicgstabEnd::converged_or_budget;
+  long long shared_iterations = iterations_done;
+#pragma omp parallel
+  {
+    long long iterations = shared_iterations;
+    BicgstabEnd own_end = BicgstabEnd::converged_or_budget;
+    double rho = norm2;
+    double residual_norm2_now = norm2;
+    while (residual_norm2_now > threshold && iterations < max_iterations) {
+      preconditioner.apply_in_team(vec.p, vec.y);
+      multiply_dot_in_team(matrix, vec.y, vec.r0, vec.v, v_partial);  // v = A y, r0 . v
+      const double r0v = sum_in_order(v_partial, blocks);
+      if (r0v == 0.0 || !std::isfinite(r0v)) {
+        own_end = BicgstabEnd::breakdown;
+        break;
+      }
+      const double alpha = rho / r0v;
+#pragma omp for schedule(static)
+      for (int i = 0; i < rows; ++i) vec.s[i] = vec.r[i] - alpha * vec.v[i];
+      preconditioner.apply_in_team(vec.s, vec.z);
+      row_products_in_team(matrix, vec.z, t_partial, [&](int i, double row_sum, double& tt, double& ts) {
+        vec.t[i] = row_sum;  // t = A z
+        tt += row_sum * row_sum;
+        ts += row_sum * vec.s[i];
+      });
+      const auto [tt, ts] = sum_pairs_in_order(t_partial, blocks);
+      const double omega = tt > 0.0 ? ts / tt : 0.0;
+      bicgstab_update_in_team(alpha, omega, vec, rows, x, update_partial);
+      const auto [rr, rho_new] = sum_pairs_in_order(update_partial, blocks);
+      ++iterations;
+      residual_norm2_now = rr;
+      if (!std::isfinite(residual_norm2_now)) {
+        own_end = BicgstabEnd::not_finite;
+        break;
+      }
+      if (!(residual_norm2_now > threshold)) break;
+      // r became (nearly) orthogonal to r0, or omega = 0: restart with a fresh shadow residual.
+      if (std::fabs(rho_new) < eps2 * norm2 || omega == 0.0) {
+        own_end = BicgstabEnd::breakdown;
+        break;
+      }
+      const double beta = (rho_new / rho) * (alpha / omega);
+      rho = rho_new;
+#pragma omp for schedule(static)
+      for (int i = 0; i < rows; ++i) vec.p[i] = vec.r[i] + beta * (vec.p[i] - omega * vec.v[i]);
+    }
+#pragma omp single nowait
+    {
+      shared_iterations = iterations;
+      end = own_end;
+    }
+  }
+  iterations_done = shared_iterations;
+  return end;
 }
 
 // One start of BiCGSTAB from the residual r = b - A x (norm2 = ||r||^2): shadow residual
@@ -507,35 +562,11 @@ bool bicgstab_start(const CsrMatrix& matrix, double* x, const Preconditioner& pr
                     double threshold, long long max_iterations, const BicgstabVectors& vec, KrylovWorkspace& work,
                     KrylovResult& result) {
   const int rows = matrix.rows;
-  const double eps2 = std::numeric_limits<double>::epsilon() * std::numeric_limits<double>::epsilon();
   std::copy(vec.r, vec.r + rows, vec.r0);
   std::copy(vec.r, vec.r + rows, vec.p);
-  double rho = norm2;  // r0 . r
-  const double r0_norm2 = norm2;
-  double residual_norm2_now = norm2;
-  while (residual_norm2_now > threshold && result.iterations < max_iterations) {
-    preconditioner.apply(vec.p, vec.y);
-    const double r0v = multiply_dot_with(matrix, vec.y, vec.r0, vec.v, work.partial);  // v = A y, r0 . v
-    if (r0v == 0.0 || !std::isfinite(r0v)) return true;
-    const double alpha = rho / r0v;
-#pragma omp parallel for schedule(static)
-    for (int i = 0; i < rows; ++i) vec.s[i] = vec.r[i] - alpha * vec.v[i];
-    preconditioner.apply(vec.s, vec.z);
-    const auto [tt, ts] = multiply_two_dots(matrix, vec.z, vec.s, vec.t, work.partial);  // t = A z
-    const double omega = tt > 0.0 ? ts / tt : 0.0;
-    const auto [rr, rho_new] = bicgstab_update(alpha, omega, vec, rows, x, work.partial);
-    ++result.iterations;
-    residual_norm2_now = rr;
-    if (!std::isfinite(residual_norm2_now)) return false;
-    if (!(residual_norm2_now > threshold)) return false;
-    // r became (nearly) orthogonal to r0, or omega = 0: restart with a fresh shadow residual.
-    if (std::fabs(rho_new) < eps2 * r0_norm2 || omega == 0.0) return true;
-    const double beta = (rho_new / rho) * (alpha / omega);
-    rho = rho_new;
-#pragma omp parallel for schedule(static)
-    for (int i = 0; i < rows; ++i) vec.p[i] = vec.r[i] + beta * (vec.p[i] - omega * vec.v[i]);
-  }
-  return false;
+  const BicgstabEnd end = bicgstab_iterations(matrix, x, preconditioner, norm2, threshold, max_iterations, vec,
+                                              work.partial.data(), result.iterations);
+  return end == BicgstabEnd::breakdown;
 }
 
 }  // namespace
@@ -546,8 +577,8 @@ KrylovResult bicgstab(const CsrMatrix& matrix, const double* rhs, double* x, con
   const int rows = matrix.rows;
   const int blocks = block_count(rows);
   const BicgstabVectors vec = bicgstab_vectors(work, rows);
-  if (work.partial.size() < 2 * static_cast<std::size_t>(blocks))
-    work.partial.resize(2 * static_cast<std::size_t>(blocks));
+  if (work.partial.size() < 5 * static_cast<std::size_t>(blocks))
+    work.partial.resize(5 * static_cast<std::size_t>(blocks));
 
   const double rhs_norm2 = blocked_dot(rhs, rhs, rows, work.partial);
   if (rhs_norm2 == 0.0) return zero_solution(x, rows);
