@@ -591,7 +591,7 @@ double AmgPreconditioner::chebyshev_inverse_centre(const Level& current) const {
 }
 
 // The degree-1 Chebyshev smoother (the default) is one step x += D^-1 (rhs - A x) / theta, which
-// the cycle fuses with the loop before it (fused_cycle_step).
+// the cycle fuses with the loop next to it (presmooth_with_residual, postsmooth_from).
 bool AmgPreconditioner::single_step_smoother() const {
   return options_.smoother == AmgSmoother::chebyshev && options_.smoother_sweeps == 1;
 }
