@@ -116,9 +116,10 @@ class PressurePoissonSolver {
     double coefficient;  // 2d / (n0_L lambda_L), 1/m^2
     double source;       // relaxation rho / dt^2, kg/(m^3 s^2)
   };
-  // Entries of particle i's row: the diagonal and one per unknown neighbour or wall-sample
-  // source within the Laplacian's radius (exact; a term that is exactly 0 otherwise, e.g. a
-  // sample of volume 0, makes the row shorter, which the assembler closes up).
+  // An upper bound of particle i's entries: the diagonal and one per unknown neighbour or
+  // wall-sample source in its lists (the count itself when the lists' radius is the
+  // Laplacian's; a pair beyond it, or a term that is exactly 0, e.g. a sample of volume 0, makes
+  // the row shorter, which the assembler closes up).
   int row_count(const RowInputs& in, std::size_t i) const;
   void assemble_row(const RowInputs& in, int row);
   // a_ij of one pair at distance r (1/m^2): the spec's coefficient w_L(r) or the HL term.
