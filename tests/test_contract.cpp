@@ -218,34 +218,54 @@ TEST_CASE("contract: byte-identical frames across two runs and across one and tw
   }
 }
 
+namespace {
+
+// The dam break to 0.1 s under `overrides`, stopped in the middle (step 2/5 of the run + 1: off
+// the frame schedule for a 5e-4 s step) and resumed: the same frames and series, byte for byte.
+void check_resumed_bits(const MethodInfo& method, const std::vector<std::string>& overrides, const std::string& label) {
+  const auto full_folder = fresh_directory("contract_resume_full_" + label);
+  const auto part_folder = fresh_directory("contract_resume_part_" + label);
+  RunOptions options;
+  options.scene_path = scene_path("dambreak.json");
+  options.method = method.name;
+  options.overrides = overrides;
+  options.end_time = 0.1;
+  options.output_directory = full_folder.string();
+  const RunResult full = run_simulation(options, registries().methods, registries().walls);
+  REQUIRE(full.status == "completed");
+  const long long stop_after = 2 * full.steps / 5 + 1;
+  auto polls = std::make_shared<long long>(0);
+  options.output_directory = part_folder.string();
+  options.stop_reason = [polls, stop_after] { return ++*polls >= stop_after ? "a test" : ""; };
+  const RunResult stopped = run_simulation(options, registries().methods, registries().walls);
+  REQUIRE(stopped.status == "interrupted");
+  RunOptions resume;
+  resume.resume_directory = part_folder;
+  const RunResult resumed = run_simulation(resume, registries().methods, registries().walls);
+  REQUIRE(resumed.status == "completed");
+  CHECK(resumed.steps == full.steps);
+  CHECK(resumed.simulated_time == full.simulated_time);
+  CHECK(run_folder_files(part_folder) == run_folder_files(full_folder));
+  CHECK(series_rows_without_wall_seconds(part_folder) == series_rows_without_wall_seconds(full_folder));
+}
+
+}  // namespace
+
 TEST_CASE("contract: interrupted and resumed gives the bits of an uninterrupted run", "[contract]") {
-  // The dam break to 0.1 s, stopped in the middle (step 2/5 of the run + 1: off the frame
-  // schedule for a 5e-4 s step) and resumed: the same frames and series, byte for byte.
   for (const MethodInfo* method : every_method()) {
     INFO("method " << method->name);
-    const auto full_folder = fresh_directory("contract_resume_full_" + method->name);
-    const auto part_folder = fresh_directory("contract_resume_part_" + method->name);
-    RunOptions options;
-    options.scene_path = scene_path("dambreak.json");
-    options.method = method->name;
-    options.end_time = 0.1;
-    options.output_directory = full_folder.string();
-    const RunResult full = run_simulation(options, registries().methods, registries().walls);
-    REQUIRE(full.status == "completed");
-    const long long stop_after = 2 * full.steps / 5 + 1;
-    auto polls = std::make_shared<long long>(0);
-    options.output_directory = part_folder.string();
-    options.stop_reason = [polls, stop_after] { return ++*polls >= stop_after ? "a test" : ""; };
-    const RunResult stopped = run_simulation(options, registries().methods, registries().walls);
-    REQUIRE(stopped.status == "interrupted");
-    RunOptions resume;
-    resume.resume_directory = part_folder;
-    const RunResult resumed = run_simulation(resume, registries().methods, registries().walls);
-    REQUIRE(resumed.status == "completed");
-    CHECK(resumed.steps == full.steps);
-    CHECK(resumed.simulated_time == full.simulated_time);
-    CHECK(run_folder_files(part_folder) == run_folder_files(full_folder));
-    CHECK(series_rows_without_wall_seconds(part_folder) == series_rows_without_wall_seconds(full_folder));
+    check_resumed_bits(*method, {}, method->name);
+  }
+}
+
+TEST_CASE("contract: under a CFL step rule, interrupted and resumed gives the bits of an uninterrupted run",
+          "[contract][time_step]") {
+  // Every method that offers a time-step rule (core/run/time_step.hpp), run under "cfl": the
+  // clock (the last step, which sizes the next, and the compensated time) is part of its state.
+  for (const MethodInfo* method : every_method()) {
+    if (!declares(*method, "time_step_rule")) continue;
+    INFO("method " << method->name);
+    check_resumed_bits(*method, {"methods." + method->name + ".time_step_rule=\"cfl\""}, method->name + "_cfl");
   }
 }
 

@@ -1,10 +1,18 @@
-// core/run/time_step.hpp: the CFL rule, its bounds, the evened-out end, the clock and its checkpoint.
+// core/run/time_step.hpp: the CFL rule, its bounds, the evened-out end, the clock and its checkpoint;
+// the rule as mps, isph and eisph apply it.
+#include <algorithm>
+#include <string>
+#include <vector>
+
 #include <catch2/catch.hpp>
 
 #include "core/io/checkpoint.hpp"
+#include "core/run/driver.hpp"
 #include "core/run/time_step.hpp"
+#include "support.hpp"
 
 using namespace mps_lab;
+using namespace mps_lab::testing;
 
 namespace {
 
@@ -73,4 +81,39 @@ TEST_CASE("Time-step clock: summary - and a checkpoint restores it bit for bit",
   restored.advance(1e-3);
   clock.advance(1e-3);
   CHECK(restored.elapsed() == clock.elapsed());  // the compensation term came back too
+}
+
+TEST_CASE("CFL rule of mps, isph and eisph: each step is cfl l0 / (max |u| + |g| dt_prev) within its bounds",
+          "[time_step][contract]") {
+  // The spec's dam break (l0 = 0.025 m) under "cfl" with cfl_number 0.1 and bounds [1e-4, 2e-3] s,
+  // 120 steps (to about 0.16 s, the surge at 2 m/s). Before each step the test takes
+  // v = max_i |u_i| over the fluid and the previous step; the step taken must be
+  // clamp(0.1 l0 / (v + |g| dt_prev), 1e-4, 2e-3) to round-off, the first one 2e-3 (at rest), and
+  // the steps must shrink below the bound as the flow speeds up (the rule is not ignored).
+  const std::vector<std::string> methods = {"mps", "isph", "eisph"};
+  for (const std::string& name : methods) {
+    INFO("method " << name);
+    const MethodInfo* method = registries().methods.find(name);
+    REQUIRE(method != nullptr);
+    const std::string block = "methods." + name + ".";
+    const Scene scene =
+        load("dambreak.json", {block + "time_step_rule=\"cfl\"", block + "cfl_number=0.1",
+                               block + "min_time_step=1e-4", block + "max_time_step=2e-3", "time.end_time=1"});
+    Simulation simulation(scene, *method);
+    const double l0 = scene.particle_spacing, g = 9.81;
+    double previous = 0.0, smallest = 1.0;
+    for (int step = 0; step < 120; ++step) {
+      const double speed = largest_fluid_speed(simulation.particles());
+      const double estimate = speed + (step > 0 ? g * previous : 0.0);
+      const double expected = estimate > 0.0 ? std::clamp(0.1 * l0 / estimate, 1e-4, 2e-3) : 2e-3;
+      const double before = simulation.time();
+      simulation.advance();
+      const double taken = simulation.time() - before;
+      INFO("step " << step << ", v = " << speed << " m/s");
+      REQUIRE(taken == Approx(expected).epsilon(1e-9));
+      previous = taken;
+      smallest = std::min(smallest, taken);
+    }
+    CHECK(smallest < 0.6 * 2e-3);  // measured: 0.99e-3 s for each of the three by step 120 (2.5 m/s)
+  }
 }

@@ -104,4 +104,9 @@ double largest_fluid_speed(const ParticleSet& particles) {
   return std::sqrt(max_speed2);
 }
 
+double largest_speed_with_gravity(const ParticleSet& particles, const Vec2& gravity, const TimeStepClock& clock) {
+  const double gained = clock.steps() > 0 ? gravity.norm() * clock.last() : 0.0;  // m/s
+  return largest_fluid_speed(particles) + gained;
+}
+
 }  // namespace mps_lab

@@ -10,8 +10,9 @@
 // exactly on time.end_time (the driver stops at end_time; a last sliver of a step would be a
 // step of arbitrary size).
 //
-// Used by dfsph (default "cfl", [BK17] Algorithm 1) and isph (default "fixed"; "cfl" as in
-// Shao & Lo 2003, dt <= 0.1-0.25 h / v_max). mps has no such parameters: the spec fixes dt.
+// Used by dfsph (default "cfl", [BK17] Algorithm 1), isph and eisph (default "fixed"; "cfl" as in
+// Shao & Lo 2003, dt <= 0.1-0.25 h / v_max) and mps (default "fixed", the spec's dt, spec §3;
+// "cfl" for scenes whose flow is slow for much of the run, docs/methods/mps.md, "Time step").
 #include <limits>
 #include <string>
 #include <vector>
@@ -83,5 +84,11 @@ class TimeStepClock {
 
 // max_i |u_i| over the fluid particles, m/s: the speed of a CFL step rule.
 double largest_fluid_speed(const ParticleSet& particles);
+
+// v_max of the CFL rule for a method that keeps no per-particle acceleration between steps
+// (mps, isph, eisph): max_i |u_i| over the fluid plus |g| dt_prev, the speed a particle can
+// gain under gravity in the coming step (viscosity only slows it). At rest before the first step
+// it is 0, and the first step is max_time_step. m/s.
+double largest_speed_with_gravity(const ParticleSet& particles, const Vec2& gravity, const TimeStepClock& clock);
 
 }  // namespace mps_lab

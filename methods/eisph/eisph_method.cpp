@@ -115,9 +115,8 @@ class EisphMethod final : public Method {
   // the scene's step.
   double time_step(const ParticleSet& particles) const override {
     if (!time_step_settings_.cfl) return scene_.time.time_step;
-    const double gained = clock_.steps() > 0 ? scene_.physics.gravity.norm() * clock_.last() : 0.0;
-    return clock_.next(time_step_settings_, largest_fluid_speed(particles) + gained, scene_.particle_spacing,
-                       scene_.time.end_time);
+    return clock_.next(time_step_settings_, largest_speed_with_gravity(particles, scene_.physics.gravity, clock_),
+                       scene_.particle_spacing, scene_.time.end_time);
   }
 
   StepReport step(ParticleSet& particles, double dt) override {

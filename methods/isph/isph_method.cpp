@@ -116,14 +116,11 @@ class IsphMethod final : public Method {
   }
 
   // "fixed": the scene's step. "cfl" (core/run/time_step.hpp): v_max = max_i |u_i| + |g| dt_prev
-  // over the fluid, the speed a particle can reach in the coming step under gravity (viscosity
-  // only slows it; no per-particle acceleration is kept between steps). At rest v_max = 0
-  // before the first step: the first step is max_time_step.
+  // over the fluid (largest_speed_with_gravity); the first step is max_time_step.
   double time_step(const ParticleSet& particles) const override {
     if (!time_step_settings_.cfl) return scene_.time.time_step;
-    const double gained = clock_.steps() > 0 ? scene_.physics.gravity.norm() * clock_.last() : 0.0;
-    return clock_.next(time_step_settings_, largest_fluid_speed(particles) + gained, scene_.particle_spacing,
-                       scene_.time.end_time);
+    return clock_.next(time_step_settings_, largest_speed_with_gravity(particles, scene_.physics.gravity, clock_),
+                       scene_.particle_spacing, scene_.time.end_time);
   }
 
   StepReport step(ParticleSet& particles, double dt) override {

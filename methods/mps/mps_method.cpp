@@ -20,6 +20,7 @@
 #include "core/io/output.hpp"
 #include "core/io/scene.hpp"
 #include "core/run/method.hpp"
+#include "core/run/time_step.hpp"
 #include "core/search/cell_order.hpp"
 #include "core/walls/obstacle_membership.hpp"
 #include "methods/mps/mps_loads.hpp"
@@ -36,6 +37,9 @@ constexpr WallHooks kWallHooks = WallHooks::all();
 // declaration below) and Tanaka & Masunaga's gamma (2010).
 constexpr double kDefaultRelaxation = 0.2;
 constexpr double kDefaultMixedRelaxation = 0.01;
+// The CFL rule's factor: below the spec's velocity clamp (cfl_velocity_clamp, v_max = 0.2 l0 / dt),
+// so the clamp sits at 0.2 / 0.16 = 1.25 times the speed the step is sized for.
+constexpr double kDefaultCflNumber = 0.16;
 
 class MpsMethod final : public Method {
  public:
@@ -73,6 +77,7 @@ class MpsMethod final : public Method {
     settings_.tolerance = p.number("cg_tolerance");
     settings_.max_iterations = p.integer("cg_max_iterations");
     settings_.warm_start = p.boolean("warm_start");
+    time_step_settings_ = time_step_settings(p, scene_.time.time_step, scene_.source);
     preconditioner_choice_ = p.string("preconditioner");
     amg_min_fluid_particles_ = static_cast<std::size_t>(p.integer("amg_min_fluid_particles"));
     settings_.amg_reuse_budget = p.number("amg_reuse_budget");
@@ -115,7 +120,14 @@ class MpsMethod final : public Method {
     number_density(particles, neighbours_, samples_, density_radius_, particles.field("number_density"));
   }
 
-  double time_step(const ParticleSet&) const override { return scene_.time.time_step; }
+  // "fixed" (the default): the spec's constant dt, the scene's time.time_step (spec §3). "cfl"
+  // (core/run/time_step.hpp): dt = cfl_number l0 / v_max, v_max = max_i |u_i| + |g| dt_prev over
+  // the fluid, within [min_time_step, max_time_step]; docs/methods/mps.md, "Time step".
+  double time_step(const ParticleSet& particles) const override {
+    if (!time_step_settings_.cfl) return scene_.time.time_step;
+    return clock_.next(time_step_settings_, largest_speed_with_gravity(particles, scene_.physics.gravity, clock_),
+                       scene_.particle_spacing, scene_.time.end_time);
+  }
 
   StepReport step(ParticleSet& particles, double dt) override {
     WallContext context{particles, &neighbours_, dt, scene_};
@@ -128,7 +140,7 @@ class MpsMethod final : public Method {
     const PressureSolveResult solve = solve_pressure(particles, dt);  // 5.2-4 to 5.2-7
     correct(particles, dt, context);                                  // 5.2-8 to 5.2-11
     total_iterations_ += solve.iterations;
-    ++steps_;
+    clock_.advance(dt);
     ungrounded_groups_ += solve.ungrounded_groups;
     return step_report(particles, solve, context);
   }
@@ -148,6 +160,7 @@ class MpsMethod final : public Method {
             {"preconditioner_setups", ppe_.projection_solver().setups()},
             {"amg_reused_solves", ppe_.projection_solver().reused_solves()},
             {"schemes", scheme_names_},
+            {"time_step", clock_.summary(time_step_settings_)},
             {"ghosts_created", ghosts_},
             {"ungrounded_groups_regularised", ungrounded_groups_},
             {"nonconverged_solves", nonconverged_solves_}};
@@ -163,7 +176,7 @@ class MpsMethod final : public Method {
     write_wall_samples(out, samples_);
     out.write_chars(carries_pressure_);
     out.write_int(total_iterations_);
-    out.write_int(steps_);
+    clock_.save(out);
     out.write_size(ghosts_);
     out.write_size(ungrounded_groups_);
     out.write_int(nonconverged_solves_);
@@ -175,7 +188,7 @@ class MpsMethod final : public Method {
     read_wall_samples(in, samples_);
     carries_pressure_ = in.read_chars();
     total_iterations_ = in.read_int();
-    steps_ = in.read_int();
+    clock_.restore(in);
     ghosts_ = in.read_size();
     ungrounded_groups_ = in.read_size();
     nonconverged_solves_ = in.read_int();
@@ -463,7 +476,8 @@ class MpsMethod final : public Method {
   WallSampleList samples_;  // of the boundary model, at the positions of the last search
   PressurePoissonSolver ppe_;
   long long total_iterations_ = 0;
-  long long steps_ = 0;
+  TimeStepSettings time_step_settings_;  // core/run/time_step.hpp
+  TimeStepClock clock_;                  // simulated time, steps taken and the last step (CFL rule)
   std::size_t ghosts_ = 0;
   std::size_t ungrounded_groups_ = 0;
   long long nonconverged_solves_ = 0;
@@ -530,6 +544,10 @@ void mps_lab_register_method_mps(mps_lab::MethodRegistry& registry) {
           .one_of({"wall_pressure", "pair_reaction", "fluid_pressure"}),
   };
   for (ParameterSpec& spec : projection_solver_parameters("CG", "IC(0)")) info.parameters.push_back(std::move(spec));
+  for (ParameterSpec& spec : time_step_parameters({"fixed", mps::kDefaultCflNumber, 1.0e-6, 5.0e-4,
+                                                   "0.16: below the spec clamp's 0.2, docs/methods/mps.md",
+                                                   "max: the spec's dt, §3; docs/methods/mps.md, \"Time step\""}))
+    info.parameters.push_back(std::move(spec));
   info.fields = {{"number_density", "", "n* at the provisional positions (spec §5.2-4)", true},
                  {"free_surface", "", "1 where n*/n0 < free_surface_threshold (P = 0)", true}};
   info.series_columns = {"number_density_error", "free_surface_particles", "ppe_unknowns", "ungrounded_groups"};
