@@ -97,8 +97,8 @@ TEST_CASE("CFL rule of mps, isph and eisph: each step is cfl l0 / (max |u| + |g|
     REQUIRE(method != nullptr);
     const std::string block = "methods." + name + ".";
     const Scene scene =
-        load("dambreak.json", {block + "time_step_rule=\"cfl\"", block + "cfl_number=0.1",
-                               block + "min_time_step=1e-4", block + "max_time_step=2e-3", "time.end_time=1"});
+        load("dambreak.json", {block + "time_step_rule=\"cfl\"", block + "cfl_number=0.1", block + "min_time_step=1e-4",
+                               block + "max_time_step=2e-3", "time.end_time=1"});
     Simulation simulation(scene, *method);
     const double l0 = scene.particle_spacing, g = 9.81;
     double previous = 0.0, smallest = 1.0;
