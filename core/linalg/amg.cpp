@@ -203,12 +203,22 @@ void AmgPreconditioner::prepare_smoother(std::size_t level, const CsrMatrix& a) 
     if (diagonal != 0.0) bound = std::max(bound, absolute_sum / std::abs(diagonal));
   }
   current.spectral_bound = bound > 0.0 ? bound : 1.0;
-  const std::size_t vector_size = static_cast<std::size_t>(rows);
-  // The finest level's right-hand side and solution are the caller's (apply): none kept.
-  current.rhs.resize(level == 0 ? 0 : vector_size);
-  current.solution.resize(level == 0 ? 0 : vector_size);
-  current.residual.assign(vector_size + 1, 0.0);
-  current.direction.resize(vector_size);
+  size_work_vectors(level, static_cast<std::size_t>(rows));
+}
+
+// The cycle's work vectors of `level` for `rows` rows. The finest level's right-hand side and
+// solution are the caller's (apply): none kept; a coarse level of the W-cycle keeps its second
+// cycle's two vectors (repeat_cycle).
+void AmgPreconditioner::size_work_vectors(std::size_t level, std::size_t rows) {
+  Level& current = levels_[level];
+  current.rhs.resize(level == 0 ? 0 : rows);
+  current.solution.resize(level == 0 ? 0 : rows);
+  current.residual.assign(rows + 1, 0.0);
+  current.direction.resize(rows);
+  const bool repeated =
+      level > 0 && options_.coarse_cycles > 1 && rows >= static_cast<std::size_t>(options_.coarse_cycle_min_rows);
+  current.second_rhs.resize(repeated ? rows : 0);
+  current.second_solution.resize(repeated ? rows : 0);
 }
 
 void AmgPreconditioner::setup(const CsrMatrix& matrix) {
@@ -759,6 +769,7 @@ void AmgPreconditioner::cycle(std::size_t level, const double* rhs, double* solu
     return;
   }
   const Level& next = levels_[level + 1];
+  const int next_rows = level_matrix(level + 1).rows;
   const bool mapped = level == 0 && refreshed_;
   double* residual = current.residual.data();
   const bool fused = single_step_smoother();
@@ -770,6 +781,8 @@ void AmgPreconditioner::cycle(std::size_t level, const double* rhs, double* solu
   }
   restrict_residual(current, residual, mapped, rows, next.rhs.data(), sharing);
   cycle(level + 1, next.rhs.data(), next.solution.data(), sharing);
+  if (options_.coarse_cycles > 1 && level + 2 < level_count_ && next_rows >= options_.coarse_cycle_min_rows)
+    repeat_cycle(level + 1, sharing);
   if (fused) {
     double* prolonged = current.direction.data();
     prolong_correction(current, next.solution.data(), mapped, rows, solution, prolonged, sharing);
@@ -778,6 +791,21 @@ void AmgPreconditioner::cycle(std::size_t level, const double* rhs, double* solu
     prolong_correction(current, next.solution.data(), mapped, rows, solution, solution, sharing);
     smooth(level, rhs, solution, false, sharing);
   }
+}
+
+// The W-cycle's second cycle of a coarse `level` (coarse_cycles 2), after its first one left its
+// solution in levels_[level].solution: the residual rhs - A solution is cycled and the
+// correction added.
+void AmgPreconditioner::repeat_cycle(std::size_t level, Sharing sharing) const {
+  const Level& current = levels_[level];
+  const CsrMatrix& a = level_matrix(level);
+  const double* rhs = current.rhs.data();
+  double* solution = current.solution.data();
+  double* residual = current.second_rhs.data();
+  double* correction = current.second_solution.data();
+  for_rows(a.rows, sharing, [&](int r) { residual[r] = residual_row(a, rhs, solution, r); });
+  cycle(level, residual, correction, sharing);
+  for_rows(a.rows, sharing, [&](int r) { solution[r] += correction[r]; });
 }
 
 void AmgPreconditioner::apply_in_team(const double* residual, double* result) const {
@@ -859,11 +887,7 @@ void AmgPreconditioner::restore_state(CheckpointReader& in) {
       read_csr(in, l.matrix);
       l.inverse_diagonal = in.read_doubles();
       l.spectral_bound = in.read_double();
-      const auto rows = static_cast<std::size_t>(l.matrix.rows);
-      l.rhs.resize(rows);
-      l.solution.resize(rows);
-      l.residual.assign(rows + 1, 0.0);
-      l.direction.resize(rows);
+      size_work_vectors(level, static_cast<std::size_t>(l.matrix.rows));
     }
     if (!coarsest) {
       read_csr(in, l.prolongator);
@@ -897,7 +921,8 @@ MemoryBreakdown AmgPreconditioner::memory_breakdown() const {
   for (std::size_t level = 0; level < levels_.size(); ++level) {
     const Level& l = levels_[level];
     const std::size_t transfer = l.prolongator.held_bytes() + l.restriction.held_bytes();
-    const std::size_t vectors = held_bytes(l.inverse_diagonal, l.rhs, l.solution, l.residual, l.direction);
+    const std::size_t vectors = held_bytes(l.inverse_diagonal, l.rhs, l.solution, l.residual, l.direction) +
+                                held_bytes(l.second_rhs, l.second_solution);
     if (level > 0) {
       coarse += l.matrix.held_bytes() + transfer + vectors;
       continue;

@@ -85,6 +85,18 @@ struct AmgOptions {
   // Coarse correction x += coarse_correction_scaling * P e_c (over-correction, > 1, helps
   // plain aggregation; keep 1 with smoothed aggregation). Does not break symmetry.
   double coarse_correction_scaling = 1.0;
+  // gamma, the cycles each coarse level gets per visit of the level above: 1, a V-cycle; 2, a
+  // W-cycle (Trottenberg, Oosterlee, Schüller, "Multigrid", 2001, §2.4.2): the second one on
+  // the residual of the first, rhs - A_c e_c. Symmetric as the V-cycle (B_2 = 2B - BAB for a
+  // symmetric level solve B with rho(BA) < 2), so a preconditioner for CG. The coarsest level is
+  // solved exactly and is not repeated.
+  // Default 2: on the dam break's pressure systems it keeps the iterations flat from 1e3 to 1e6
+  // unknowns where the V-cycle's grow (mps 12 -> 19, 11 with W; docs/performance.md, "A W-cycle").
+  int coarse_cycles = 2;
+  // A coarse level with fewer rows is cycled once whatever coarse_cycles says: at 1.2e3 unknowns
+  // (a second level of ~140 rows) the W-cycle's solve took 1.2-1.3x the V-cycle's (isph 8
+  // iterations against 7; mps 12 both), from 5e3 unknowns on it is as fast or faster.
+  int coarse_cycle_min_rows = 256;
 };
 
 struct AmgLevelInfo {
@@ -155,10 +167,14 @@ class AmgPreconditioner final : public Preconditioner {
     double spectral_bound = 2.0;  // Gershgorin bound of rho(D^-1 A)
     // V-cycle work vectors (mutable state of the const apply(): one apply at a time).
     mutable std::vector<double> rhs, solution, residual, direction;
+    // W-cycle (coarse_cycles 2) of a coarse level: the residual after its first cycle and the
+    // second cycle's correction (empty otherwise).
+    mutable std::vector<double> second_rhs, second_solution;
   };
 
   const CsrMatrix& level_matrix(std::size_t level) const;
   void prepare_smoother(std::size_t level, const CsrMatrix& a);
+  void size_work_vectors(std::size_t level, std::size_t rows);
   void build_level(std::size_t level);
   void factorise_coarsest();
   void solve_coarsest(const double* rhs, double* solution, Sharing sharing) const;
@@ -171,6 +187,7 @@ class AmgPreconditioner final : public Preconditioner {
   void postsmooth_from(std::size_t level, const double* rhs, const double* prolonged, double* solution,
                        Sharing sharing) const;
   void cycle(std::size_t level, const double* rhs, double* solution, Sharing sharing) const;
+  void repeat_cycle(std::size_t level, Sharing sharing) const;
   void restrict_residual(const Level& current, const double* residual, bool mapped, int fine_rows, double* coarse_rhs,
                          Sharing sharing) const;
   void prolong_correction(const Level& current, const double* coarse, bool mapped, int rows, const double* solution,

@@ -55,7 +55,17 @@ std::vector<ParameterSpec> projection_solver_parameters(const std::string& krylo
                        "beyond its first solve add up to this (0: a new hierarchy for every system; "
                        "core/linalg/projection_solver.hpp)")
           .at_least(0.0),
+      string_parameter("amg_cycle", "w",
+                       "AMG: w, each coarse level cycled twice per visit (iterations flat in the size), or v, once "
+                       "(docs/performance.md, \"A W-cycle\")")
+          .one_of({"w", "v"}),
   };
+}
+
+AmgOptions amg_options(const ParameterValues& parameters) {
+  AmgOptions options;
+  options.coarse_cycles = parameters.string("amg_cycle") == "v" ? 1 : 2;
+  return options;
 }
 
 PreconditionerKind choose_preconditioner(const std::string& choice, std::size_t fluid_particles,
@@ -64,12 +74,12 @@ PreconditionerKind choose_preconditioner(const std::string& choice, std::size_t 
   return fluid_particles >= amg_min_fluid_particles ? PreconditionerKind::Amg : PreconditionerKind::Jacobi;
 }
 
-std::unique_ptr<Preconditioner> make_preconditioner(PreconditionerKind kind) {
+std::unique_ptr<Preconditioner> make_preconditioner(PreconditionerKind kind, const AmgOptions& amg) {
   switch (kind) {
     case PreconditionerKind::IncompleteFactorisation:
       return std::make_unique<IncompleteLuPreconditioner>(kIncompleteFactorisationBlocks);
     case PreconditionerKind::Amg:
-      return std::make_unique<AmgPreconditioner>();  // core/linalg/amg.hpp, smoothed aggregation
+      return std::make_unique<AmgPreconditioner>(amg);  // core/linalg/amg.hpp, smoothed aggregation
     case PreconditionerKind::Jacobi:
       break;
   }
@@ -91,7 +101,7 @@ void ProjectionSolver::prepare_preconditioner(const CsrMatrix& matrix, const std
                                               std::size_t particles, const ProjectionSolverSettings& settings) {
   const PreconditionerKind kind = settings.preconditioner;
   if (!preconditioner_ || kind_ != kind) {
-    preconditioner_ = make_preconditioner(kind);
+    preconditioner_ = make_preconditioner(kind, amg_options_);
     kind_ = kind;
     reuse_ = HierarchyReuse{};
   }
@@ -150,7 +160,7 @@ void ProjectionSolver::restore_state(CheckpointReader& in, PreconditionerKind ki
   base_row_of_particle_.clear();
   if (!in.read_bool()) return;
   if (kind != PreconditionerKind::Amg) in.fail("an AMG hierarchy for a run whose preconditioner is not amg");
-  preconditioner_ = make_preconditioner(kind);
+  preconditioner_ = make_preconditioner(kind, amg_options_);
   kind_ = kind;
   reuse_.solves = in.read_int();
   reuse_.first_applications = in.read_double();

@@ -28,6 +28,7 @@
 #include <vector>
 
 #include "core/base/parameters.hpp"
+#include "core/linalg/amg.hpp"
 #include "core/linalg/krylov.hpp"
 #include "core/linalg/sparse_matrix.hpp"
 
@@ -60,7 +61,8 @@ constexpr int kDefaultAmgMinFluidParticles = 600;
 constexpr double kDefaultAmgReuseBudget = 8.0;
 
 // The parameters of the solve every projection method declares (core/parameters.hpp):
-// `preconditioner` (the vocabulary above), `amg_min_fluid_particles` and `amg_reuse_budget`;
+// `preconditioner` (the vocabulary above), `amg_min_fluid_particles`, `amg_reuse_budget` and
+// `amg_cycle`;
 // `krylov` and `factorisation` name the method's Krylov solver and what its
 // incomplete_factorisation is ("CG", "IC(0)").
 std::vector<ParameterSpec> projection_solver_parameters(const std::string& krylov, const std::string& factorisation);
@@ -71,9 +73,13 @@ std::vector<ParameterSpec> projection_solver_parameters(const std::string& krylo
 PreconditionerKind choose_preconditioner(const std::string& choice, std::size_t fluid_particles,
                                          std::size_t amg_min_fluid_particles);
 
+// The AMG options of a method's parameters: `amg_cycle` "w" (the default; AmgOptions::coarse_cycles
+// 2) or "v" (1).
+AmgOptions amg_options(const ParameterValues& parameters);
+
 // A new preconditioner of `kind` (incomplete factorisation on fixed row blocks, so that the
-// result does not depend on the thread count).
-std::unique_ptr<Preconditioner> make_preconditioner(PreconditionerKind kind);
+// result does not depend on the thread count; AMG with `amg`).
+std::unique_ptr<Preconditioner> make_preconditioner(PreconditionerKind kind, const AmgOptions& amg = AmgOptions{});
 
 struct ProjectionSolverSettings {
   KrylovMethod method = KrylovMethod::ConjugateGradient;
@@ -120,6 +126,8 @@ class ProjectionSolver {
  public:
   // Calls `observer` with every system solve() receives from now on (empty: none).
   void observe(PressureSystemObserver observer) { observer_ = std::move(observer); }
+  // The options of its AMG hierarchies from now on (amg_options of the method's parameters).
+  void configure_amg(const AmgOptions& options) { amg_options_ = options; }
 
   // Solves matrix p = rhs (rhs has matrix.rows entries) and writes p of row r to
   // pressure[particle_of[r]]. Nothing is done (and nothing written) for an empty matrix.
@@ -147,6 +155,7 @@ class ProjectionSolver {
                               const ProjectionSolverSettings& settings);
 
   PreconditionerKind kind_ = PreconditionerKind::Jacobi;
+  AmgOptions amg_options_;
   PressureSystemObserver observer_;
   std::unique_ptr<Preconditioner> preconditioner_;
   std::vector<double> solution_;  // Pa

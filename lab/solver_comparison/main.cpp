@@ -40,6 +40,9 @@ struct BenchOptions {
   // Smoother degrees of the project's AMG (AmgOptions::smoother_sweeps); the first is the one
   // BoomerAMG is compared with. Default: the library's default.
   std::vector<int> amg_degrees{mps_lab::AmgOptions{}.smoother_sweeps};
+  // Cycles per coarse level (AmgOptions::coarse_cycles: 1 V-cycle, 2 W-cycle), each timed with
+  // every degree; the first is the one compared with BoomerAMG.
+  std::vector<int> amg_coarse_cycles{mps_lab::AmgOptions{}.coarse_cycles};
   // time.time_step = this x l0 (s/m): the spec's 5e-4 s at l0 = 0.025, and a Courant number that
   // stays below 1 at every spacing (the performance study's rule, docs/performance.md).
   double time_step_per_spacing = 0.02;
@@ -97,34 +100,49 @@ void print_row(const PressureSystem& system, const char* solver, int parallelism
               m.setup_seconds, m.solve_seconds, m.iterations, m.residual, m.memory_bytes / system.matrix.rows);
 }
 
-// "core_amg" for the library's default smoother degree, "core_amg_degreeN" for another.
-std::string core_amg_label(int degree) {
-  return degree == mps_lab::AmgOptions{}.smoother_sweeps ? "core_amg" : "core_amg_degree" + std::to_string(degree);
+// "core_amg" for the library's default smoother degree and cycle, "core_amg_degreeN" for another
+// degree, "_w" appended for the W-cycle.
+std::string core_amg_label(int degree, int coarse_cycles) {
+  const mps_lab::AmgOptions defaults;
+  std::string label = degree == defaults.smoother_sweeps ? "core_amg" : "core_amg_degree" + std::to_string(degree);
+  if (coarse_cycles != defaults.coarse_cycles)
+    label += coarse_cycles == 2 ? "_w" : "_cycles" + std::to_string(coarse_cycles);
+  return label;
 }
 
-// Every smoother degree and thread count with the project's AMG (one rank only), then
-// BoomerAMG on the ranks; the solutions compared are those of the first degree.
-nlohmann::json compare_on(const PressureSystem& system, const BenchOptions& options, int ranks, int rank) {
-  nlohmann::json rows = nlohmann::json::array();
-  std::vector<double> solution, core_solution, other_solution;
-  if (ranks == 1) {
+// Each smoother degree and cycle of the project's AMG on every thread count.
+void time_core_amg(const PressureSystem& system, const BenchOptions& options, nlohmann::json& rows,
+                   std::vector<double>& core_solution) {
+  std::vector<double> other_solution;
+  for (int cycles : options.amg_coarse_cycles) {
     for (int degree : options.amg_degrees) {
       mps_lab::AmgOptions amg;
       amg.smoother_sweeps = degree;
-      const std::string label = core_amg_label(degree);
+      amg.coarse_cycles = cycles;
+      const std::string label = core_amg_label(degree, cycles);
+      const bool first = degree == options.amg_degrees.front() && cycles == options.amg_coarse_cycles.front();
       for (int threads : options.threads) {
         omp_set_num_threads(threads);
-        std::vector<double>& into = degree == options.amg_degrees.front() ? core_solution : other_solution;
-        const SolveMeasure m = mps_lab::solve_with_core_amg(system, amg, options.repeats, into);
+        const SolveMeasure m =
+            mps_lab::solve_with_core_amg(system, amg, options.repeats, first ? core_solution : other_solution);
         print_row(system, label.c_str(), threads, m);
         rows.push_back({{"solver", label},
                         {"threads", threads},
                         {"ranks", 1},
                         {"smoother_degree", degree},
+                        {"coarse_cycles", cycles},
                         {"measure", measure_json(m)}});
       }
     }
   }
+}
+
+// The project's AMG (one rank only; time_core_amg), then BoomerAMG on the ranks; the solutions
+// compared are those of the first degree and cycle.
+nlohmann::json compare_on(const PressureSystem& system, const BenchOptions& options, int ranks, int rank) {
+  nlohmann::json rows = nlohmann::json::array();
+  std::vector<double> solution, core_solution;
+  if (ranks == 1) time_core_amg(system, options, rows, core_solution);
   omp_set_num_threads(1);
   const SolveMeasure m =
       mps_lab::solve_with_boomeramg(system, MPI_COMM_WORLD, mps_lab::BoomerAmgSettings{}, options.repeats, solution);
@@ -210,6 +228,10 @@ int main(int argc, char** argv) {
                  "smoother degrees of the project's AMG, each timed (the first is compared with BoomerAMG)")
       ->delimiter(',')
       ->check(CLI::PositiveNumber);
+  app.add_option("--amg-coarse-cycles", options.amg_coarse_cycles,
+                 "cycles per coarse level of the project's AMG (1: V-cycle, 2: W-cycle), each timed")
+      ->delimiter(',')
+      ->check(CLI::Range(1, 2));
   app.add_option("--time-step-per-spacing", options.time_step_per_spacing, "time.time_step / particle_spacing, s/m")
       ->check(CLI::PositiveNumber);
   app.add_option("--repeats", options.repeats, "timings per solve; the best is reported")->check(CLI::PositiveNumber);

@@ -66,6 +66,7 @@ class IsphMethod final : public Method {
                 2.0 * setup.parameters.number("smoothing_length") * setup.scene.particle_spacing) {
     const auto& p = setup.parameters;
     ppe_.observe(setup.pressure_system_observer);
+    ppe_.projection_solver().configure_amg(amg_options(p));
     const double l0 = scene_.particle_spacing;
     const double h = p.number("smoothing_length") * l0;
     rest_density_ = scene_.physics.density;

@@ -54,6 +54,7 @@ class MpsMethod final : public Method {
         integration_phase_(phase_id(timers_, "integration")) {
     const auto& p = setup.parameters;
     ppe_.observe(setup.pressure_system_observer);
+    ppe_.projection_solver().configure_amg(amg_options(p));
     const double l0 = scene_.particle_spacing;
     const double r_min = p.number("r_min") * l0;
     density_radius_ = make_operator_radius(l0, p.number("re_number_density") * l0, r_min);
