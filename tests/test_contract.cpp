@@ -220,6 +220,20 @@ TEST_CASE("contract: byte-identical frames across two runs and across one and tw
 
 namespace {
 
+// Resumes the interrupted run in `part_folder`: the steps, the time, the frames and the series of
+// the uninterrupted `full` run in `full_folder`, byte for byte (the series without wall_seconds).
+void resume_and_compare(const std::filesystem::path& part_folder, const std::filesystem::path& full_folder,
+                        const RunResult& full) {
+  RunOptions resume;
+  resume.resume_directory = part_folder;
+  const RunResult resumed = run_simulation(resume, registries().methods, registries().walls);
+  REQUIRE(resumed.status == "completed");
+  CHECK(resumed.steps == full.steps);
+  CHECK(resumed.simulated_time == full.simulated_time);
+  CHECK(run_folder_files(part_folder) == run_folder_files(full_folder));
+  CHECK(series_rows_without_wall_seconds(part_folder) == series_rows_without_wall_seconds(full_folder));
+}
+
 // The dam break to 0.1 s under `overrides`, stopped in the middle (step 2/5 of the run + 1: off
 // the frame schedule for a 5e-4 s step) and resumed: the same frames and series, byte for byte.
 void check_resumed_bits(const MethodInfo& method, const std::vector<std::string>& overrides, const std::string& label) {
@@ -239,14 +253,7 @@ void check_resumed_bits(const MethodInfo& method, const std::vector<std::string>
   options.stop_reason = [polls, stop_after] { return ++*polls >= stop_after ? "a test" : ""; };
   const RunResult stopped = run_simulation(options, registries().methods, registries().walls);
   REQUIRE(stopped.status == "interrupted");
-  RunOptions resume;
-  resume.resume_directory = part_folder;
-  const RunResult resumed = run_simulation(resume, registries().methods, registries().walls);
-  REQUIRE(resumed.status == "completed");
-  CHECK(resumed.steps == full.steps);
-  CHECK(resumed.simulated_time == full.simulated_time);
-  CHECK(run_folder_files(part_folder) == run_folder_files(full_folder));
-  CHECK(series_rows_without_wall_seconds(part_folder) == series_rows_without_wall_seconds(full_folder));
+  resume_and_compare(part_folder, full_folder, full);
 }
 
 }  // namespace
@@ -413,13 +420,6 @@ TEST_CASE("contract: resumed right before a reordering gives the bits of an unin
       CHECK(restored.steps() == stop_after);
       CHECK_FALSE(is_identity(restored.particles().id));
     }
-    RunOptions resume;
-    resume.resume_directory = part_folder;
-    const RunResult resumed = run_simulation(resume, registries().methods, registries().walls);
-    REQUIRE(resumed.status == "completed");
-    CHECK(resumed.steps == full.steps);
-    CHECK(resumed.simulated_time == full.simulated_time);
-    CHECK(run_folder_files(part_folder) == run_folder_files(full_folder));
-    CHECK(series_rows_without_wall_seconds(part_folder) == series_rows_without_wall_seconds(full_folder));
+    resume_and_compare(part_folder, full_folder, full);
   }
 }

@@ -3,7 +3,7 @@
 // methods (MPS, ISPH): smoothed aggregation,
 //   P. Vaněk, J. Mandel, M. Brezina, "Algebraic multigrid by smoothed aggregation for second
 //   and fourth order elliptic problems", Computing 56 (1996) 179-196,
-// applied as one V-cycle per call, a fixed symmetric linear operator (a preconditioner for CG
+// applied as one W-cycle (or V-cycle) per call, a fixed symmetric linear operator (a preconditioner for CG
 // when the matrix is symmetric positive definite; for BiCGSTAB when it is mildly nonsymmetric).
 //
 // Setup (per level, all O(rows)):
@@ -26,7 +26,7 @@
 // of an M-matrix are symmetric positive definite; a near-zero pivot, from a singular block,
 // zeroes its unknown instead of dividing by it).
 //
-// Apply: one V-cycle from a zero initial guess, with `smoother_sweeps` steps of a Chebyshev
+// Apply: one cycle from a zero initial guess, with `smoother_sweeps` steps of a Chebyshev
 // polynomial smoother in D^-1 A (default; Adams, Brezina, Hu, Tuminaro, "Parallel multigrid
 // smoothing: polynomial versus Gauss-Seidel", J. Comput. Phys. 188 (2003) 593-610) or of
 // damped Jacobi, before and after the coarse correction. The same polynomial before and after
@@ -41,13 +41,24 @@
 // against 14 / 19, isph 9 / 10 against 9 / 12; set-up + solve 0.67 of degree 2's time at 1e6
 // unknowns on 2 threads for both).
 //
+// The cycle: by default a W-cycle (coarse_cycles 2; Trottenberg et al. 2001, §2.4.2): every
+// coarse level from coarse_cycle_min_rows rows on, but the coarsest, is cycled twice per visit,
+// the second time on the residual the first left. The coarse levels together hold about a fifth
+// of the finest level's nonzeros (operator complexity 1.2 on the particle matrices), so the
+// second visits add roughly that much work to a cycle, and they keep the iterations flat in the
+// number of levels where the V-cycle's grow with it.
+//
 // Measured (tests/test_amg.cpp, this 2-core machine, 1 thread, degree 1): CG to 1e-8 takes
-// 19-20 iterations on the 5-point Poisson matrix for n = 32 .. 512 and 11-18 on the
-// MPS-kernel lattice matrix for 1e3 .. 2.5e5 unknowns (18-26 with jittered points in shuffled
-// order), against Jacobi-CG's 102 .. 753 and 122 .. 1816. Operator complexity 1.1-1.35. On the
-// mps dam-break systems (1 thread, docs/data/solver_comparison.md): setup 270-560 ns per
-// unknown from 1e6 down to 4e3 unknowns (about 15 products with the matrix at 4e3), one V-cycle
-// about 29 ns per unknown at 4e3 (3.2 products).
+// 19 iterations on the 5-point Poisson matrix for n = 32 .. 512 and 10-11 on the MPS-kernel
+// lattice matrix for 1e3 .. 2.5e5 unknowns (15-16 with jittered points in shuffled order),
+// against Jacobi-CG's 102 .. 753 and 122 .. 1816; the V-cycle: 19-20, 11-18 and 18-26.
+// Operator complexity 1.1-1.35. On the dam break's pressure systems from rest (2 threads,
+// docs/performance.md, "A W-cycle"): mps 12 / 11 / 11 / 11 CG iterations at 1.2e3 / 3.1e4 /
+// 1.2e5 / 1.0e6 unknowns (V-cycle 12 / 14 / 16 / 19), isph 7 / 7 / 7 / 8 BiCGSTAB iterations
+// (7 / 8 / 9 / 13); the solve at 1e6 takes 0.66x (mps) and 0.63x (isph) the V-cycle's time.
+// Before the W-cycle (docs/data/solver_comparison.md, 1 thread): setup 270-560 ns per unknown
+// from 1e6 down to 4e3 unknowns (about 15 products with the matrix at 4e3), one V-cycle about
+// 29 ns per unknown at 4e3 (3.2 products).
 //
 // OpenMP over rows everywhere except the aggregation (sequential, O(rows)) and the coarsest
 // solve; every sum is taken in a fixed order, so setup() and apply() give the same bits for
