@@ -7,6 +7,7 @@
 #include <limits>
 
 #include "core/io/geometry.hpp"
+#include "core/io/output.hpp"
 #include "methods/mps/mps_pressure.hpp"
 #include "test_mps_spec_support.hpp"
 
@@ -382,4 +383,20 @@ TEST_CASE("spec 7: a fluid particle beyond l0 (layers + 1) outside the domain or
   method->step(lone, scene.time.time_step);
   CHECK(lone.type[0] == ParticleType::Ghost);
   CHECK(lone.type[1] == ParticleType::Fluid);
+}
+
+TEST_CASE("spec 3: dt is the scene's time.time_step, the same at rest and in fast flow", "[mps][spec]") {
+  // The spec fixes dt (§3: 5.0e-4 s); a scene may set another. With the default rule ("fixed")
+  // the method returns it whatever the flow: at rest, and with a fluid particle at 20 m/s, where
+  // the optional CFL rule would shorten it to 0.16 l0 / 20 = 2e-4 s (and at rest would take its
+  // upper bound, 5e-4 s, for the scene's 2.5e-4 s).
+  for (const double dt : {kTimeStep, 2.5e-4}) {
+    INFO("time.time_step = " << dt);
+    const Scene scene = defaults_scene({"time.time_step=" + format_double(dt)});
+    const std::unique_ptr<Method> method = make_mps(scene);
+    ParticleSet particles = cluster(Vec2(0.5, 0.3), kSpacing);
+    CHECK(method->time_step(particles) == dt);
+    particles.velocity[0] = Vec2(20.0, 0.0);
+    CHECK(method->time_step(particles) == dt);
+  }
 }
