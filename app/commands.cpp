@@ -99,6 +99,7 @@ int run_command(const RunCommand& command) {
   options.end_time = command.end_time;
   options.checkpoint_every_steps = command.checkpoint_every;
   options.threads = command.threads;
+  options.load_setting = command.load_setting;
   return run_with_options(options, command.quiet, command.profile);
 }
 
@@ -166,6 +167,7 @@ int compare_command(const CompareCommand& command) {
   options.output_directory = out;
   options.overrides = command.set;
   options.end_time = command.end_time;
+  options.load_setting = command.load_setting;
   options.progress = !command.quiet;
   options.stop_reason = stop_reason;
   install_stop_handlers();
@@ -224,6 +226,15 @@ void print_capabilities(const MethodInfo& info) {
               models.empty() ? "none" : models.c_str());
 }
 
+// Its setting for wall loads (MethodInfo::load_setting): what --load-setting applies, and its promise.
+void print_load_setting(const MethodInfo& info) {
+  std::string assignments;
+  for (const auto& assignment : load_setting_overrides(info)) assignments += " --set " + assignment;
+  if (assignments.empty()) assignments = " (the defaults)";
+  std::printf("    load setting (--load-setting):%s; promise: still water within %g %% of rho g h (%s)\n",
+              assignments.c_str(), 100.0 * info.load_setting.still_water_tolerance, info.load_setting.basis.c_str());
+}
+
 // Where a treatment acts for this method, and the optional hooks the method does not call
 // (so that a treatment never loses a hook silently).
 std::string hooks_note(const WallTreatmentInfo& wall, const MethodInfo& method) {
@@ -245,6 +256,7 @@ int methods_command(bool with_parameters) {
     std::printf("%-*s  %s\n", static_cast<int>(width), info->name.c_str(), info->description.c_str());
     if (!with_parameters) continue;
     print_capabilities(*info);
+    print_load_setting(*info);
     for (const auto& spec : info->parameters) {
       std::printf("    methods.%s.%s = %s %s  (%s) %s\n", info->name.c_str(), spec.name.c_str(),
                   spec.default_value.dump().c_str(), spec.unit.c_str(), spec.range_text().c_str(),

@@ -15,7 +15,8 @@ struct RunCommand {
   std::vector<std::string> set;
   std::optional<double> end_time;
   std::optional<long long> checkpoint_every;
-  int threads = 0;  // 0: chosen by measurement (core/run/thread_governor.hpp)
+  int threads = 0;            // 0: chosen by measurement (core/run/thread_governor.hpp)
+  bool load_setting = false;  // the method's setting for wall loads (MethodInfo::load_setting)
   bool quiet = false;
   bool profile = false;  // print the per-phase profile (run.json "profile") at the end
 };
@@ -35,6 +36,7 @@ struct CompareCommand {
   std::string out;
   std::vector<std::string> set;
   std::optional<double> end_time;
+  bool load_setting = false;  // each method's setting for wall loads (MethodInfo::load_setting)
   bool analysis = true;
   bool quiet = false;
 };

@@ -1,8 +1,8 @@
 // mps_lab: command-line front end of the testbed.
 //   mps_lab run --method=mps scenes/dambreak.json [--out DIR] [--set key=value]... [--end-time T]
-//               [--checkpoint-every N] [--profile]
+//               [--checkpoint-every N] [--load-setting] [--profile]
 //   mps_lab resume DIR [--end-time T] [--checkpoint-every N] [--profile]
-//   mps_lab compare scenes/dambreak.json [--methods mps,isph,dfsph] [--out runs/dambreak]
+//   mps_lab compare scenes/dambreak.json [--methods mps,isph,dfsph] [--out runs/dambreak] [--load-setting]
 //   mps_lab bench [scene] [--methods ...] [--spacings 0.025,0.0125,0.005,0.0025] [--threads 1,2]
 //               [--steps N] [--warmup-steps N] [--start-time T] [--json FILE]
 //   mps_lab methods [--parameters]
@@ -37,6 +37,9 @@ CLI::App* add_run_command(CLI::App& app, mps_lab::app::RunCommand& run) {
                    "OpenMP threads of every step (default 0: one thread or all, whichever the last measurement found "
                    "faster; docs/performance.md)")
       ->check(CLI::NonNegativeNumber);
+  run_app->add_flag("--load-setting", run.load_setting,
+                    "take the method's setting for wall loads before the --set overrides (`mps_lab methods -p` lists "
+                    "it; docs/validation.md, \"Each method's load setting\")");
   run_app->add_flag("--quiet,-q", run.quiet, "no progress line and no summary line");
   run_app->add_flag("--profile", run.profile,
                     "print where the time went at the end: seconds, share and ms per step of each phase "
@@ -76,6 +79,9 @@ CLI::App* add_compare_command(CLI::App& app, mps_lab::app::CompareCommand& compa
   compare_app->add_option("--set,-s", compare.set, "override a scene key for every method (repeatable)")
       ->multi_option_policy(CLI::MultiOptionPolicy::TakeAll);
   compare_app->add_option("--end-time", compare.end_time, "simulated end time in s");
+  compare_app->add_flag("--load-setting", compare.load_setting,
+                        "each method with its setting for wall loads before the --set overrides (`mps_lab methods "
+                        "-p`; docs/validation.md, \"Each method's load setting\")");
   compare_app->add_flag("!--no-analysis", compare.analysis, "skip the Python figures and report");
   compare_app->add_flag("--quiet,-q", compare.quiet, "no progress and no table");
   return compare_app;

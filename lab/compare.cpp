@@ -141,6 +141,7 @@ std::vector<RunEvaluation> compare_methods(const CompareOptions& options, const 
     run.output_directory = (options.output_directory / name).string();
     run.overrides = options.overrides;
     run.end_time = options.end_time;
+    run.load_setting = options.load_setting;
     run.progress = options.progress;
     run.stop_reason = options.stop_reason;
     const RunResult result = run_simulation(run, methods, walls);

@@ -45,6 +45,7 @@ struct CompareOptions {
   std::filesystem::path output_directory;
   std::vector<std::string> overrides;
   std::optional<double> end_time;
+  bool load_setting = false;  // each method's setting for wall loads (RunOptions::load_setting)
   bool progress = false;
   std::function<std::string()> stop_reason;  // as RunOptions::stop_reason; polled in every run
 };

@@ -5,7 +5,11 @@
 
 #include <unistd.h>
 
+#include <algorithm>
+#include <stdexcept>
+
 #include "core/run/driver.hpp"
+#include "core/run/method.hpp"
 #include "support.hpp"
 
 using namespace mps_lab::testing;
@@ -50,6 +54,51 @@ TEST_CASE("mps_lab run with --out - --set and --end-time", "[cli]") {
   CHECK(summary["steps"] == 100);
   CHECK(summary["parameters"]["relaxation"] == 0.25);
   CHECK(std::filesystem::exists(out / "output_000100.vtk"));
+}
+
+// The parameter of `method` called `name`.
+const mps_lab::ParameterSpec& parameter_spec(const mps_lab::MethodInfo& method, const std::string& name) {
+  for (const auto& spec : method.parameters) {
+    if (spec.name == name) return spec;
+  }
+  FAIL("methods." << method.name << "." << name << " is not a declared parameter");
+  throw std::logic_error("unreachable");
+}
+
+TEST_CASE("mps_lab compare and run --load-setting: each method's load setting, then the --set overrides", "[cli]") {
+  // compare --load-setting runs every method with its declared setting for wall loads
+  // (MethodInfo::load_setting): run.json records the assignments first among the overrides, and
+  // the parameters hold the values.
+  const auto out = fresh_directory("cli_compare_load_setting");
+  const auto compared = run_mps_lab("compare " + scene_path("hydrostatic.json") + " --load-setting --no-analysis -q" +
+                                        " --end-time 0.002 --out " + out.string(),
+                                    "compare_load_setting");
+  REQUIRE(compared.exit_code == 0);
+  for (const auto* method : registries().methods.all()) {
+    INFO("method " << method->name);
+    const auto summary = nlohmann::json::parse(read_text(out / method->name / "run.json"));
+    const std::vector<std::string> expected = mps_lab::load_setting_overrides(*method);
+    const auto overrides = summary["overrides"].get<std::vector<std::string>>();
+    REQUIRE(overrides.size() >= expected.size());
+    CHECK(std::equal(expected.begin(), expected.end(), overrides.begin()));
+    for (const auto& [name, value] : method->load_setting.parameters) {
+      CHECK(summary["parameters"][name] == nlohmann::json::parse(value));
+    }
+  }
+  // run --load-setting with a --set of the same parameter back to its default: the --set wins.
+  for (const auto* method : registries().methods.all()) {
+    if (method->load_setting.parameters.empty()) continue;
+    const std::string name = method->load_setting.parameters.front().first;
+    const nlohmann::json default_value = parameter_spec(*method, name).default_value;
+    const auto run_out = fresh_directory("cli_run_load_setting_" + method->name);
+    const auto ran = run_mps_lab("run --method=" + method->name + " " + scene_path("hydrostatic.json") +
+                                     " --load-setting --end-time 0.002 -q --out " + run_out.string() +
+                                     " --set 'methods." + method->name + "." + name + "=" + default_value.dump() + "'",
+                                 "run_load_setting_" + method->name);
+    REQUIRE(ran.exit_code == 0);
+    const auto summary = nlohmann::json::parse(read_text(run_out / "run.json"));
+    CHECK(summary["parameters"][name] == default_value);
+  }
 }
 
 TEST_CASE("run.json records how waiting OpenMP threads wait - the runtime's own settings", "[cli][threads]") {

@@ -239,7 +239,7 @@ TEST_CASE("wall pressure: sensor keys - faces on the wall surface and one-line e
 // all methods and models measured (0.771 to 1.62; the lowest, 0.771, is eisph with mirror particles at h = 0.075 m,
 // whose one relaxation sweep per step has not brought the near-surface pressure to equilibrium in 1.5 s): a guard
 // against a broken sensor (a lost gravity term: -9 %, a sign: below 0), not the target.
-void check_still_water(const SensorRun& run, const std::string& label) {
+void check_still_water(const SensorRun& run, const std::string& label, double peak_sigmas = 25.0) {
   std::ostringstream ratios;
   for (std::size_t k = 0; k < kSensorHeights.size(); ++k) {
     ratios << " " << run.mean[k] / run.expected[k]
@@ -253,7 +253,7 @@ void check_still_water(const SensorRun& run, const std::string& label) {
     CHECK(run.peak[k] == run.step_max[k]);
     CHECK(run.mean[k] == Approx(run.step_mean[k]).epsilon(1e-12));
     CHECK(run.peak[k] >= run.mean[k]);
-    CHECK(run.peak[k] - run.mean[k] <= 25.0 * run.step_sigma[k] + 1e-6 * run.expected[k]);
+    CHECK(run.peak[k] - run.mean[k] <= peak_sigmas * run.step_sigma[k] + 1e-6 * run.expected[k]);
     CHECK(run.mean[k] > 0.75 * run.expected[k]);
     CHECK(run.mean[k] < 1.7 * run.expected[k]);
     CHECK_NOFAIL(std::fabs(run.mean[k] / run.expected[k] - 1.0) < 0.01);  // the target, reported
@@ -287,6 +287,61 @@ TEST_CASE("wall pressure: a tank accelerating upward at g/2 - every method", "[v
     const SensorRun run = run_tank(*method, {"physics.gravity=[0, -14.715]"}, 1.5 * kG, 0.5, 1.5);
     REQUIRE(run.status == "completed");
     check_still_water(run, method->name + " accelerated at g/2");
+  }
+}
+
+// check_still_water's guards, and the method's promise (MethodInfo::load_setting) enforced at
+// every sensor: |mean / (rho g h) - 1| within its still_water_tolerance. The peak may lie 50
+// standard deviations above the mean: a quiet source (the mixed source of mps) keeps sigma small
+// and its rare spikes stand further out (measured up to 39.8 sigma over [0.5, 3] s).
+void check_promise(const SensorRun& run, const MethodInfo& method, const std::string& label) {
+  check_still_water(run, label, 50.0);
+  const double tolerance = method.load_setting.still_water_tolerance;
+  for (std::size_t k = 0; k < kSensorHeights.size(); ++k) {
+    INFO(label << ", sensor at depth " << run.expected[k] / run.expected.front() << " of the deepest's");
+    CHECK(std::fabs(run.mean[k] / run.expected[k] - 1.0) <= tolerance);
+  }
+}
+
+// The method's load setting (MethodInfo::load_setting) with `boundary_model` (empty: its default).
+std::vector<std::string> load_setting_with(const MethodInfo& method, const std::string& boundary_model) {
+  std::vector<std::string> overrides = load_setting_overrides(method);
+  if (!boundary_model.empty()) {
+    overrides.push_back("methods." + method.name + ".wall_treatments={\"" + boundary_model + "\":{}}");
+  }
+  return overrides;
+}
+
+TEST_CASE("wall pressure: each method's load setting keeps its still-water promise - every boundary model",
+          "[validation][sensor]") {
+  // Every method declares a setting for wall loads and a promise (MethodInfo::load_setting); with
+  // it and each boundary model it supports, scenes/hydrostatic.json to 3 s, the sensors' means
+  // over [0.5, 3] s (a longer window than the defaults' test: the mean's own scatter between
+  // half-second windows is 0.5-1 %). The promises are measured values rounded up by that scatter
+  // (docs/validation.md, "Each method's load setting"); the issue's target, 1 %, is reported.
+  for (const MethodInfo* method : registries().methods.all()) {
+    INFO("method " << method->name << ": " << method->load_setting.basis);
+    REQUIRE(method->load_setting.still_water_tolerance > 0.0);
+    REQUIRE(method->load_setting.still_water_tolerance <= 0.1);  // a promise, not a guard
+    for (const WallTreatmentInfo* model : boundary_models(*method)) {
+      INFO("boundary model " << model->name);
+      const SensorRun run = run_tank(*method, load_setting_with(*method, model->name), kG, 0.5, 3.0);
+      REQUIRE(run.status == "completed");
+      check_promise(run, *method, method->name + " (load setting) / " + model->name);
+    }
+  }
+}
+
+TEST_CASE("wall pressure: each method's load setting, the tank accelerating upward at g/2", "[validation][sensor]") {
+  // As "a tank accelerating upward at g/2" with each method's load setting and its default
+  // boundary model: the promise holds against rho (g + a) h.
+  for (const MethodInfo* method : registries().methods.all()) {
+    INFO("method " << method->name);
+    std::vector<std::string> overrides = load_setting_with(*method, "");
+    overrides.push_back("physics.gravity=[0, -14.715]");
+    const SensorRun run = run_tank(*method, overrides, 1.5 * kG, 0.5, 3.0);
+    REQUIRE(run.status == "completed");
+    check_promise(run, *method, method->name + " (load setting) accelerated at g/2");
   }
 }
 

@@ -13,6 +13,7 @@
 #include <map>
 #include <memory>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <nlohmann/json.hpp>
@@ -127,6 +128,20 @@ struct MethodSetup {
   PressureSystemObserver pressure_system_observer{};
 };
 
+// A method's setting for wall loads (docs/validation.md, "Each method's load setting"): values
+// of its own parameters to take when the pressure on the walls is what a run is for, and the
+// still-water accuracy it then promises. `mps_lab run --load-setting` and `mps_lab compare
+// --load-setting` apply it; the contract suite runs each method with it and every boundary model
+// it supports on scenes/hydrostatic.json and holds it to its promise.
+struct LoadSetting {
+  // {parameter, value as JSON} of the method's block, e.g. {"free_surface_offset", "0.5"}.
+  std::vector<std::pair<std::string, std::string>> parameters;
+  // The promise: |mean / (rho g h) - 1| at the still-water tank's three wall sensors (h = 0.075,
+  // 0.15, 0.225 m; means over [0.5, 3] s), with every boundary model, at g and at 1.5 g. 0: none.
+  double still_water_tolerance = 0.0;
+  std::string basis;  // one line: what the promise rests on (what was measured, where documented)
+};
+
 struct MethodInfo {
   std::string name;
   std::string description;  // one line, for `mps_lab methods`
@@ -159,6 +174,8 @@ struct MethodInfo {
   // which the driver integrates over the surface (obstacle_load_kind FluidPressure): the loads on
   // obstacles are then reported with those models too, and bodies move under them (docs/walls.md).
   bool sample_obstacle_loads = false;
+  // Its setting for wall loads (LoadSetting above); empty parameters: the defaults are it.
+  LoadSetting load_setting;
   std::function<std::unique_ptr<Method>(const MethodSetup&)> create;
 };
 
@@ -190,6 +207,9 @@ std::string wall_treatment_support_gap(const WallTreatmentInfo& wall, const Meth
 bool reports_obstacle_loads(const Scene& scene, const MethodInfo& method);
 // Why a scene with obstacles gets no loads from `method`, in a phrase; empty when it does or has none.
 std::string obstacle_loads_gap(const Scene& scene, const MethodInfo& method);
+
+// The method's load setting as --set assignments: "methods.<name>.<parameter>=<value>".
+std::vector<std::string> load_setting_overrides(const MethodInfo& method);
 
 // Every method compiled into this build (generated from methods/*/).
 MethodRegistry builtin_methods();

@@ -85,6 +85,14 @@ std::string obstacle_loads_gap(const Scene& scene, const MethodInfo& method) {
   return "";
 }
 
+std::vector<std::string> load_setting_overrides(const MethodInfo& method) {
+  std::vector<std::string> overrides;
+  for (const auto& [parameter, value] : method.load_setting.parameters) {
+    overrides.push_back("methods." + method.name + "." + parameter + "=" + value);
+  }
+  return overrides;
+}
+
 bool reports_obstacle_loads(const Scene& scene, const MethodInfo& method) {
   return !scene.walls.obstacles.empty() && obstacle_loads_gap(scene, method).empty();
 }
