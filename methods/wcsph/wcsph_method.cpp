@@ -477,9 +477,10 @@ void mps_lab_register_method_wcsph(mps_lab::MethodRegistry& registry) {
   info.sample_obstacle_loads = true;  // ... and with wall samples
   // For wall loads: a sound speed of 20 U instead of 10 U (twice the steps); still water then
   // reads within 0.7 % where 10 U reads up to 1.6 % high (docs/validation.md).
-  info.load_setting = {{{"sound_speed_factor", "20"}},
+  // (sound_speed 0: c0 from the factor, also where a scene gives c0 itself.)
+  info.load_setting = {{{"sound_speed_factor", "20"}, {"sound_speed", "0"}},
                        0.01,
-                       "measured within 0.7 % (0.998-1.007) with every boundary model over [0.5, 3] s, "
+                       "measured within 0.7 % (0.999-1.007) with every boundary model over [0.5, 3] s, "
                        "docs/validation.md"};
   info.wall_hooks = wcsph::kWallHooks;
   const auto time_step_specs = time_step_parameters(
