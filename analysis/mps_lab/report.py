@@ -140,6 +140,15 @@ def report_title(runs: list[data.Run]) -> tuple[str, str]:
             f"{first['threads']} threads, mps_lab {first['git_revision']}.")
 
 
+def overrides_note(run: data.Run) -> str:
+    """'; overrides: `a=1`, `b=2`' from run.json (the --set, --end-time and --load-setting
+    assignments the run was made with, in the order applied), or '' when there are none."""
+    overrides = run.summary.get("overrides") or []
+    if not overrides:
+        return ""
+    return "; overrides: " + ", ".join(f"`{assignment}`" for assignment in overrides)
+
+
 def write_report(root: str, runs: list[data.Run], rows: list[dict[str, str]], figures_written: dict[str, str]) -> str:
     title, subtitle = report_title(runs)
     lines = [f"# {title}", "", subtitle, "", "## Summary", "", markdown_table(rows), "", DEFINITIONS, ""]
@@ -151,7 +160,8 @@ def write_report(root: str, runs: list[data.Run], rows: list[dict[str, str]], fi
             lines += [f"## {caption}", "", f"![{caption}]({os.path.basename(figures_written[key])})", ""]
     lines += ["## Runs", ""]
     for run in runs:
-        lines.append(f"- `{os.path.relpath(run.folder, root)}`: {run.summary['method_description']}")
+        lines.append(f"- `{os.path.relpath(run.folder, root)}`: {run.summary['method_description']}"
+                     f"{overrides_note(run)}")
     path = os.path.join(root, "report.md")
     with open(path, "w") as handle:
         handle.write("\n".join(lines) + "\n")
@@ -208,7 +218,7 @@ def write_html_report(root: str, runs: list[data.Run], rows: list[dict[str, str]
     parts.append("<h2>Runs</h2><ul>")
     for run in runs:
         parts.append(f"<li>{code('`' + os.path.relpath(run.folder, root) + '`')}: "
-                     f"{html.escape(run.summary['method_description'])}</li>")
+                     f"{html.escape(run.summary['method_description'])}{code(overrides_note(run))}</li>")
     parts.append("</ul></body></html>")
     path = os.path.join(root, "report.html")
     with open(path, "w") as handle:

@@ -461,10 +461,11 @@ void mps_lab_register_method_eisph(mps_lab::MethodRegistry& registry) {
   info.obstacle_loads = true;         // isph's wall pair terms and their reaction (docs/walls.md, "Loads on obstacles")
   info.sample_obstacle_loads = true;  // ... and of its wall-sample pair terms
   // For wall loads: p = 0 at the water surface, as isph's (docs/methods/eisph.md).
-  info.load_setting = {{{"free_surface_offset", "0.5"}},
-                       0.05,
-                       "measured within 4.1 % (0.959-0.990) over [0.5, 3] s at the tank's l0 = 0.025 m (one Jacobi sweep "
-                       "per step: the settled level stays 1-4 % low), docs/validation.md"};
+  info.load_setting = {
+      {{"free_surface_offset", "0.5"}},
+      0.05,
+      "measured within 4.1 % (0.959-0.990) over [0.5, 3] s at the tank's l0 = 0.025 m (one Jacobi sweep "
+      "per step: the settled level stays 1-4 % low), docs/validation.md"};
   info.wall_hooks = eisph::kWallHooks;
   const auto time_step_specs =
       time_step_parameters({"cfl", 0.2, 1.0e-6, 2.0e-3,

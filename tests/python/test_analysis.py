@@ -69,6 +69,11 @@ class ComparisonTest(unittest.TestCase):
         for figure in ["front.png", "snapshots.png", "wall_pressure.png", "energy.png"]:
             self.assertIn(f"]({figure})", report)
         self.assertIn("| method | status |", report)
+        # Each run lists the assignments it was made with (run.json "overrides"): here --end-time.
+        self.assertEqual(report.count("; overrides: `time.end_time=0.3`"), self.method_count())
+
+    def method_count(self):
+        return len(subprocess.run([BINARY, "methods"], capture_output=True, text=True).stdout.splitlines())
 
     def test_html_report_is_one_self_contained_file(self):
         """report.html holds every figure of report.md inline (data: URIs) and no link to a file."""
