@@ -65,7 +65,9 @@ TEST_CASE("obstacle loads: mps wall pair terms are equal and opposite to what th
   // The fluid side is the operator that moves the fluid (pressure_acceleration, the CMPS one,
   // add_viscous_acceleration) with and without the walls; the wall side the reaction pass. Their
   // sums cancel to rounding: ~1e3 pair terms of at most ~1e2 N/m and totals ~1e3 N/m give errors
-  // ~1e3 x 1e-16 x 1e3 = 1e-10 N/m; 1e-8 N/m leaves a factor 100.
+  // ~1e3 x 1e-16 x 1e3 = 1e-10 N/m; 1e-8 N/m leaves a factor 100. With the gradient correction
+  // (GC) the pair terms of i are C_i times them on both sides; the fluid side applies the C_i of
+  // the full neighbourhood (walls included) to both sums, so that their difference is the walls'.
   const double l0 = 0.025;
   const OperatorRadius radius = make_operator_radius(l0, 2.1 * l0, 0.01 * l0);
   PairState state = pair_state(radius.re);
@@ -77,25 +79,33 @@ TEST_CASE("obstacle loads: mps wall pair terms are equal and opposite to what th
   for (std::size_t i = 0; i < p.size(); ++i) fluid_only[i] = p.type[i] == ParticleType::Fluid;
   std::vector<Vec2> with_walls(p.size()), without(p.size()), reaction(p.size(), Vec2::Zero());
   std::vector<double> minimum;
+  std::vector<Eigen::Matrix2d> correction;
+  gradient_correction_matrices(p, state.neighbours, none, radius, state.carries_pressure, correction);
   for (const bool cmps : {false, true}) {
-    if (cmps) {
-      std::vector<double> unused;
-      cmps_pressure_acceleration(p, state.neighbours, none, radius, state.carries_pressure, kDensity, g, true, minimum,
-                                 with_walls);
-      cmps_pressure_acceleration(p, state.neighbours, none, radius, fluid_only, kDensity, g, true, unused, without);
-    } else {
-      pressure_acceleration(p, state.neighbours, none, radius, state.carries_pressure, kDensity, g, true, with_walls);
-      pressure_acceleration(p, state.neighbours, none, radius, fluid_only, kDensity, g, true, without);
-      neighbourhood_minimum(p, state.neighbours, none, radius, state.carries_pressure, kDensity, g, true, minimum);
+    for (const bool gc : {false, true}) {
+      if (cmps) {
+        std::vector<double> unused;
+        cmps_pressure_acceleration(p, state.neighbours, none, radius, state.carries_pressure, kDensity, g, true,
+                                   minimum, with_walls);
+        cmps_pressure_acceleration(p, state.neighbours, none, radius, fluid_only, kDensity, g, true, unused, without);
+      } else {
+        pressure_acceleration(p, state.neighbours, none, radius, state.carries_pressure, kDensity, g, true, with_walls);
+        pressure_acceleration(p, state.neighbours, none, radius, fluid_only, kDensity, g, true, without);
+        neighbourhood_minimum(p, state.neighbours, none, radius, state.carries_pressure, kDensity, g, true, minimum);
+      }
+      if (gc) {
+        apply_gradient_correction(p, correction, with_walls);
+        apply_gradient_correction(p, correction, without);
+      }
+      const Vec2 on_fluid = fluid_total(p, with_walls, mass) - fluid_total(p, without, mass);
+      reaction.assign(p.size(), Vec2::Zero());
+      add_pressure_wall_reactions(p, state.neighbours, radius, state.carries_pressure, minimum, cmps, kDensity, mass,
+                                  reaction, gc ? &correction : nullptr);
+      INFO("cmps " << cmps << ", gc " << gc << ": on the fluid " << on_fluid.transpose() << " N/m, on the walls "
+                   << total(reaction).transpose());
+      CHECK(on_fluid.norm() > 100.0);  // the walls push the water: a test of something
+      CHECK((on_fluid + total(reaction)).norm() < 1e-8);
     }
-    const Vec2 on_fluid = fluid_total(p, with_walls, mass) - fluid_total(p, without, mass);
-    reaction.assign(p.size(), Vec2::Zero());
-    add_pressure_wall_reactions(p, state.neighbours, radius, state.carries_pressure, minimum, cmps, kDensity, mass,
-                                reaction);
-    INFO("cmps " << cmps << ": on the fluid " << on_fluid.transpose() << " N/m, on the walls "
-                 << total(reaction).transpose());
-    CHECK(on_fluid.norm() > 100.0);  // the walls push the water: a test of something
-    CHECK((on_fluid + total(reaction)).norm() < 1e-8);
   }
   // Viscosity nu = 1e-3 m^2/s (a large one, so that the sums are far above rounding).
   const double nu = 1e-3;
@@ -172,7 +182,10 @@ TEST_CASE("wall sample loads: mps sample pair terms are equal and opposite to wh
     std::vector<double> minimum, unused;
     bool own_sources = true;
     for (const WallSample& sample : state.samples.samples) own_sources = own_sources && sample.velocity_map.isZero();
-    for (const bool cmps : {false, true}) {
+    std::vector<Eigen::Matrix2d> correction;  // GC with the samples, applied to both sums (as above)
+    mps::gradient_correction_matrices(p, state.neighbours, state.samples, radius, carries, correction);
+    for (const int variant : {0, 1, 2}) {  // spec, cmps, spec with GC
+      const bool cmps = variant == 1, gc = variant == 2;
       if (!own_sources) break;
       if (cmps) {
         mps::cmps_pressure_acceleration(p, state.neighbours, state.samples, radius, carries, kDensity, no_gravity, true,
@@ -187,13 +200,20 @@ TEST_CASE("wall sample loads: mps sample pair terms are equal and opposite to wh
         mps::neighbourhood_minimum(p, state.neighbours, state.samples, radius, carries, kDensity, no_gravity, true,
                                    minimum);
       }
+      if (gc) {
+        mps::apply_gradient_correction(p, correction, with);
+        mps::apply_gradient_correction(p, correction, without);
+      }
       WallSampleLoads loads;
       loads.reset(2);
       mps::add_pressure_sample_reactions(p, state.samples, radius, minimum, cmps, kDensity, no_gravity, mass, scratch,
-                                         loads);
+                                         loads, gc ? &correction : nullptr);
       const Vec2 on_fluid = fluid_total(p, with, mass) - fluid_total(p, without, mass);
       CHECK(loads.force[0].norm() > 10.0);  // the box is pushed
-      check_equal_and_opposite(model->name + (cmps ? ", cmps" : ", spec"), on_fluid, loads, 10.0);
+      check_equal_and_opposite(model->name + (cmps ? ", cmps"
+                                              : gc ? ", spec with GC"
+                                                   : ", spec"),
+                               on_fluid, loads, 10.0);
     }
     const double nu = 1e-3;
     WallSampleLoads loads;

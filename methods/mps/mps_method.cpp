@@ -221,7 +221,7 @@ class MpsMethod final : public Method {
         {"cell_list", cells_.held_bytes()},
         {"wall_samples", held_bytes(samples_.offsets, samples_.samples)},
         {"step_arrays", held_bytes(acceleration_, reaction_, sample_scratch_, wetted_, carries_pressure_, scheme_rate_,
-                                   scheme_source_, minimum_pressure_)},
+                                   scheme_source_, minimum_pressure_, correction_)},
         {"obstacle_surface",
          held_bytes(surface_.element_of_id, surface_.rest_position_of_id, surface_.rest_mean, surface_.members)}};
     append_breakdown(out, "ppe", ppe_.memory_breakdown());
@@ -245,7 +245,9 @@ class MpsMethod final : public Method {
     source_scheme_ = source_term_scheme(p.string("source_term"));
     settings_.laplacian_scheme = ppe_laplacian_scheme(p.string("ppe_laplacian"));
     mixed_relaxation_ = p.number("mixed_relaxation");
+    gradient_correction_ = p.boolean("gradient_correction");
     scheme_names_ = {{"pressure_gradient", p.string("pressure_gradient")},
+                     {"gradient_correction", gradient_correction_},
                      {"source_term", p.string("source_term")},
                      {"ppe_laplacian", p.string("ppe_laplacian")}};
     const std::string block = p.block_path().empty() ? std::string("methods.mps") : p.block_path();
@@ -353,6 +355,11 @@ class MpsMethod final : public Method {
         pressure_acceleration(particles, neighbours_, samples_, gradient_radius_, carries_pressure_,
                               scene_.physics.density, scene_.physics.gravity, min_includes_self_, acceleration_);
       }
+      if (gradient_correction_) {  // GC, Khayyer & Gotoh (2011)
+        gradient_correction_matrices(particles, neighbours_, samples_, gradient_radius_, carries_pressure_,
+                                     correction_);
+        apply_gradient_correction(particles, correction_, acceleration_);
+      }
       if (computes_reactions_ || computes_sample_loads_) pressure_reactions(particles);
     }
     {
@@ -386,6 +393,7 @@ class MpsMethod final : public Method {
       return;
     }
     const bool cmps = gradient_scheme_ == PressureGradientScheme::Cmps;
+    const std::vector<Eigen::Matrix2d>* correction = gradient_correction_ ? &correction_ : nullptr;
     if (!cmps) {
       neighbourhood_minimum(particles, neighbours_, samples_, gradient_radius_, carries_pressure_,
                             scene_.physics.density, scene_.physics.gravity, min_includes_self_, minimum_pressure_);
@@ -393,11 +401,11 @@ class MpsMethod final : public Method {
     if (computes_sample_loads_) {
       add_pressure_sample_reactions(particles, samples_, gradient_radius_, minimum_pressure_, cmps,
                                     scene_.physics.density, scene_.physics.gravity, particle_mass_, sample_scratch_,
-                                    sample_loads_);
+                                    sample_loads_, correction);
       return;
     }
     add_pressure_wall_reactions(particles, neighbours_, gradient_radius_, carries_pressure_, minimum_pressure_, cmps,
-                                scene_.physics.density, particle_mass_, reaction_);
+                                scene_.physics.density, particle_mass_, reaction_, correction);
   }
 
   // The step's report: solver statistics, and the compressibility left for the solver.
@@ -454,11 +462,13 @@ class MpsMethod final : public Method {
   PressureGradientScheme gradient_scheme_ = PressureGradientScheme::Spec;
   SourceTermScheme source_scheme_ = SourceTermScheme::Spec;
   double mixed_relaxation_ = kDefaultMixedRelaxation;
-  std::vector<double> scheme_rate_;       // Dn/Dt or <div u*> of the source term, 1/s
-  std::vector<double> scheme_source_;     // b_i of the source term, Pa/m^2
-  std::vector<double> minimum_pressure_;  // Phat of CMPS, Pa
-  nlohmann::json scheme_names_;           // for run.json
-  std::string preconditioner_choice_;     // the parameter: "auto" or a preconditioner
+  std::vector<double> scheme_rate_;          // Dn/Dt or <div u*> of the source term, 1/s
+  std::vector<double> scheme_source_;        // b_i of the source term, Pa/m^2
+  std::vector<double> minimum_pressure_;     // Phat of CMPS, Pa
+  bool gradient_correction_ = false;         // GC (mps_schemes.hpp)
+  std::vector<Eigen::Matrix2d> correction_;  // C_i of GC, per particle
+  nlohmann::json scheme_names_;              // for run.json
+  std::string preconditioner_choice_;        // the parameter: "auto" or a preconditioner
   std::size_t amg_min_fluid_particles_ = kDefaultAmgMinFluidParticles;
   std::vector<char> carries_pressure_;
   std::vector<Vec2> acceleration_;  // m/s^2
@@ -526,6 +536,9 @@ void mps_lab_register_method_mps(mps_lab::MethodRegistry& registry) {
       string_parameter("pressure_gradient", "spec",
                        "pressure gradient: spec (§2, P_j - P_min) or cmps (Khayyer & Gotoh 2008, antisymmetric)")
           .one_of(mps::pressure_gradient_choices()),
+      boolean_parameter("gradient_correction", false,
+                        "multiply the pressure gradient by the corrective matrix C_i (GC, Khayyer & Gotoh 2011): "
+                        "exact for a linear pressure at any arrangement (methods/mps/mps_schemes.hpp)"),
       string_parameter("source_term", "spec",
                        "PPE source: spec (§8, relaxation (n* - n0)/n0), hs (Khayyer & Gotoh 2009, Dn/Dt), ecs "
                        "(Khayyer & Gotoh 2011, hs + error compensation) or mixed (Tanaka & Masunaga 2010)")

@@ -129,15 +129,18 @@ void add_viscous_wall_reactions(const ParticleSet& particles, const NeighbourLis
 void add_pressure_wall_reactions(const ParticleSet& particles, const NeighbourList& neighbours,
                                  const OperatorRadius& radius, const std::vector<char>& carries_pressure,
                                  const std::vector<double>& minimum_pressure, bool cmps, double density,
-                                 double particle_mass, std::vector<Vec2>& reaction) {
-  // The force on i from j: -m (d / (n0 rho)) times the pair term of <grad P>_i (pressure_acceleration).
+                                 double particle_mass, std::vector<Vec2>& reaction,
+                                 const std::vector<Eigen::Matrix2d>* correction) {
+  // The force on i from j: -m (d / (n0 rho)) times the pair term of <grad P>_i (pressure_acceleration),
+  // times C_i with the gradient correction.
   const double coefficient = -particle_mass * kDimension / (radius.n0 * density);  // kg m/(m Pa), per metre
   add_wall_reactions(
       particles, neighbours,
       [&](std::size_t i, std::size_t j) -> Vec2 {
         if (!carries_pressure[j]) return Vec2::Zero();
-        return coefficient * (cmps ? cmps_gradient_pair(particles, i, j, minimum_pressure, radius)
-                                   : gradient_pair(particles, i, j, minimum_pressure[i], radius));
+        const Vec2 pair = coefficient * (cmps ? cmps_gradient_pair(particles, i, j, minimum_pressure, radius)
+                                              : gradient_pair(particles, i, j, minimum_pressure[i], radius));
+        return correction != nullptr ? Vec2((*correction)[i] * pair) : pair;
       },
       reaction);
 }
@@ -158,15 +161,19 @@ void add_viscous_sample_reactions(const ParticleSet& particles, const WallSample
 void add_pressure_sample_reactions(const ParticleSet& particles, const WallSampleList& samples,
                                    const OperatorRadius& radius, const std::vector<double>& minimum_pressure, bool cmps,
                                    double density, const Vec2& gravity, double particle_mass,
-                                   std::vector<Vec2>& scratch, WallSampleLoads& loads) {
-  // The force on i from sample w: -m (d / (n0 rho)) times the sample's pair term of <grad P>_i.
+                                   std::vector<Vec2>& scratch, WallSampleLoads& loads,
+                                   const std::vector<Eigen::Matrix2d>* correction) {
+  // The force on i from sample w: -m (d / (n0 rho)) times the sample's pair term of <grad P>_i
+  // (times C_i with the gradient correction).
   const double coefficient = -particle_mass * kDimension / (radius.n0 * density);  // per metre of depth
   add_wall_sample_reactions(
       particles, samples,
       [&](std::size_t i, std::uint32_t, const WallSample& wall) -> Vec2 {
-        return coefficient *
-               (cmps ? cmps_gradient_sample_pair(particles, i, wall, minimum_pressure[i], radius, density, gravity)
-                     : gradient_sample_pair(particles, i, wall, minimum_pressure[i], radius, density, gravity));
+        const Vec2 pair =
+            coefficient *
+            (cmps ? cmps_gradient_sample_pair(particles, i, wall, minimum_pressure[i], radius, density, gravity)
+                  : gradient_sample_pair(particles, i, wall, minimum_pressure[i], radius, density, gravity));
+        return correction != nullptr ? Vec2((*correction)[i] * pair) : pair;
       },
       scratch, loads);
 }

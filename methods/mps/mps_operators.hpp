@@ -129,10 +129,13 @@ void add_viscous_wall_reactions(const ParticleSet& particles, const NeighbourLis
 // The same for the pressure term, -(1/rho) <grad P>_i (spec §2, gradient_pair; cmps_gradient_pair
 // when `cmps`), over the pressure-carrying wall particles; `minimum_pressure` from
 // neighbourhood_minimum with the operator's settings.
+// `correction`, when not null, holds C_i of the gradient correction (GC, mps_schemes.hpp): the pair
+// term of i is then C_i times it, as in the corrected acceleration.
 void add_pressure_wall_reactions(const ParticleSet& particles, const NeighbourList& neighbours,
                                  const OperatorRadius& radius, const std::vector<char>& carries_pressure,
                                  const std::vector<double>& minimum_pressure, bool cmps, double density,
-                                 double particle_mass, std::vector<Vec2>& reaction);
+                                 double particle_mass, std::vector<Vec2>& reaction,
+                                 const std::vector<Eigen::Matrix2d>* correction = nullptr);
 
 // The same on wall samples (obstacle_load pair_reaction with a boundary model of wall samples; core/walls/
 // wall_sample_reactions.hpp): adds to `loads` the reaction of each obstacle's samples of the viscous and
@@ -143,6 +146,7 @@ void add_viscous_sample_reactions(const ParticleSet& particles, const WallSample
 void add_pressure_sample_reactions(const ParticleSet& particles, const WallSampleList& samples,
                                    const OperatorRadius& radius, const std::vector<double>& minimum_pressure, bool cmps,
                                    double density, const Vec2& gravity, double particle_mass,
-                                   std::vector<Vec2>& scratch, WallSampleLoads& loads);
+                                   std::vector<Vec2>& scratch, WallSampleLoads& loads,
+                                   const std::vector<Eigen::Matrix2d>* correction = nullptr);
 
 }  // namespace mps_lab::mps

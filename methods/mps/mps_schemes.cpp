@@ -6,6 +6,8 @@
 #include <limits>
 #include <stdexcept>
 
+#include <Eigen/LU>
+
 #include "core/search/for_each_neighbour.hpp"
 
 namespace mps_lab::mps {
@@ -159,6 +161,53 @@ void cmps_pressure_acceleration(const ParticleSet& particles, const NeighbourLis
       gradient += cmps_gradient_sample_pair(particles, i, wall, p_hat_i, radius, density, gravity);
     });
     acceleration[i] = -(coefficient / density) * gradient;
+  }
+}
+
+// M_i of GC (Khayyer & Gotoh 2011): (d/n0) sum_j w_ij r_ij r_ij^T / |r_ij|^2, the neighbours and
+// samples of the gradient (pressure_acceleration).
+namespace {
+Eigen::Matrix2d gradient_moment(const ParticleSet& particles, const NeighbourList& neighbours,
+                                const WallSampleList& samples, const OperatorRadius& radius,
+                                const std::vector<char>& carries_pressure, std::size_t i) {
+  Eigen::Matrix2d moment = Eigen::Matrix2d::Zero();
+  const auto add = [&](const Vec2& r_ij, double volume) {
+    const double r = r_ij.norm();
+    const double w = mps_weight(r, radius.re, radius.r_min);
+    if (w == 0.0) return;
+    moment += (volume * w / std::max(r * r, radius.r_min * radius.r_min)) * (r_ij * r_ij.transpose());
+  };
+  for_each_neighbour(neighbours, i, [&](std::uint32_t j) {
+    if (!carries_pressure[j] || particles.type[j] == ParticleType::Ghost) return;
+    add(particles.position[j] - particles.position[i], 1.0);
+  });
+  for_each_neighbour(samples, i,
+                     [&](const WallSample& wall) { add(wall.position - particles.position[i], wall.volume); });
+  return (kDimension / radius.n0) * moment;
+}
+}  // namespace
+
+void gradient_correction_matrices(const ParticleSet& particles, const NeighbourList& neighbours,
+                                  const WallSampleList& samples, const OperatorRadius& radius,
+                                  const std::vector<char>& carries_pressure, std::vector<Eigen::Matrix2d>& correction) {
+  const auto n = static_cast<std::ptrdiff_t>(particles.size());
+  correction.resize(particles.size());
+#pragma omp parallel for schedule(static)
+  for (std::ptrdiff_t i = 0; i < n; ++i) {
+    correction[i] = Eigen::Matrix2d::Identity();
+    if (particles.type[i] != ParticleType::Fluid) continue;
+    const Eigen::Matrix2d moment =
+        gradient_moment(particles, neighbours, samples, radius, carries_pressure, static_cast<std::size_t>(i));
+    if (moment.determinant() > kMinimumCorrectionDeterminant) correction[i] = moment.inverse();
+  }
+}
+
+void apply_gradient_correction(const ParticleSet& particles, const std::vector<Eigen::Matrix2d>& correction,
+                               std::vector<Vec2>& acceleration) {
+  const auto n = static_cast<std::ptrdiff_t>(particles.size());
+#pragma omp parallel for schedule(static)
+  for (std::ptrdiff_t i = 0; i < n; ++i) {
+    if (particles.type[i] == ParticleType::Fluid) acceleration[i] = correction[i] * acceleration[i];
   }
 }
 

@@ -8,10 +8,13 @@
 //   source_term = mixed        Tanaka & Masunaga (2010): velocity divergence plus gamma times
 //                              the number-density deviation
 //   ppe_laplacian = hl         Khayyer & Gotoh (2010): the higher-order Laplacian of the PPE
+//   gradient_correction        Khayyer & Gotoh (2011): the corrective matrix of the gradient (GC)
 // Every source term is written as b_i of the system A p = b that mps_pressure.cpp assembles
 // (A = -<lap>, so b > 0 where the fluid is compressed), in Pa/m^2.
 #include <string>
 #include <vector>
+
+#include <Eigen/Core>
 
 #include "core/base/particles.hpp"
 #include "core/search/neighbour_search.hpp"
@@ -86,5 +89,26 @@ void cmps_pressure_acceleration(const ParticleSet& particles, const NeighbourLis
                                 const std::vector<char>& carries_pressure, double density, const Vec2& gravity,
                                 bool min_includes_self, std::vector<double>& minimum_pressure,
                                 std::vector<Vec2>& acceleration);
+
+// GC, the corrective matrix of the pressure gradient (Khayyer & Gotoh 2011, J. Comput. Phys. 230,
+// "Enhancement of stability and accuracy of the moving particle semi-implicit method"):
+//   C_i = M_i^-1,   M_i = (d/n0) sum_j w_ij r_ij r_ij^T / |r_ij|^2
+// over the gradient's neighbours (pressure-carrying, non-ghost; a wall sample V_w times), r
+// clamped to r_min as in the weight. The spec's gradient of a pressure P = P_i + a . r_ij is
+// M_i a (plus the P_min term, 0 where i is its neighbourhood's minimum), so C_i makes it a at any
+// arrangement; on the full lattice M = I (C changes nothing), on a flat free surface
+// M = diag(0.85, 0.50): the uncorrected gradient there reads half the vertical one. Where
+// det M_i <= kMinimumCorrectionDeterminant (neighbours on a line, or almost none: a sheet, a
+// splash) C_i = I, since the inverse would amplify noise. Writes C_i for fluid particles and I
+// for the others.
+constexpr double kMinimumCorrectionDeterminant = 0.1;  // a flat surface: 0.43; a fluid corner: 0.18
+void gradient_correction_matrices(const ParticleSet& particles, const NeighbourList& neighbours,
+                                  const WallSampleList& samples, const OperatorRadius& radius,
+                                  const std::vector<char>& carries_pressure, std::vector<Eigen::Matrix2d>& correction);
+
+// a_i <- C_i a_i for every fluid particle: the pressure acceleration -(1/rho) <grad P>_i (spec or
+// CMPS) is linear in the gradient, so this is -(1/rho) C_i <grad P>_i.
+void apply_gradient_correction(const ParticleSet& particles, const std::vector<Eigen::Matrix2d>& correction,
+                               std::vector<Vec2>& acceleration);
 
 }  // namespace mps_lab::mps
