@@ -210,3 +210,21 @@ TEST_CASE("isph water surface: still water reads rho g h at the wall - every bou
   // 0.977 (the models in the order above; 9 of 12 within 1 %).
   still_water_wall_sensors("isph", {"methods.isph.free_surface_offset=0.5"}, 1.5, within, 1.5 * 9.81);
 }
+
+TEST_CASE("isph dry wall points: which wall points dry_wall_points \"excluded\" leaves out", "[unit][isph][surface]") {
+  // A wall point is dry for fluid particle i when it lies above i (against gravity) and its pressure
+  // is not above 0: the air above the water. Beside or below i, or with a positive pressure, it is
+  // wet; without gravity nothing is above; with the rule off nothing is left out.
+  const Vec2 x_i(0.1, 0.2);
+  const isph::SamplePressure excluded{kRho, Vec2(0.0, -kG), true, true};
+  const isph::SamplePressure clamped{kRho, Vec2(0.0, -kG), true, false};
+  const isph::SamplePressure weightless{kRho, Vec2::Zero(), true, true};
+  const Vec2 above = x_i + Vec2(0.01, 0.02), beside = x_i + Vec2(0.025, 0.0), below = x_i + Vec2(0.0, -0.025);
+  CHECK(isph::excluded_dry_point(excluded, x_i, above, 0.0));
+  CHECK(isph::excluded_dry_point(excluded, x_i, above, -50.0));
+  CHECK_FALSE(isph::excluded_dry_point(excluded, x_i, above, 1.0));
+  CHECK_FALSE(isph::excluded_dry_point(excluded, x_i, beside, -50.0));
+  CHECK_FALSE(isph::excluded_dry_point(excluded, x_i, below, -50.0));
+  CHECK_FALSE(isph::excluded_dry_point(clamped, x_i, above, -50.0));
+  CHECK_FALSE(isph::excluded_dry_point(weightless, x_i, above, -50.0));
+}

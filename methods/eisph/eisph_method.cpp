@@ -90,6 +90,7 @@ class EisphMethod final : public Method {
     surface_offset_ = p.number("free_surface_offset") * l0;  // m
     gradient_form_ = isph::pressure_gradient_form_from_name(p.string("pressure_gradient"));
     clamp_negative_pressure_ = p.boolean("clamp_negative_pressure");
+    exclude_dry_wall_points_ = isph::excludes_dry_wall_points(p);
     limits_ = {h, p.number("viscous_number"), p.number("force_number"), scene_.physics.kinematic_viscosity,
                scene_.physics.gravity.norm()};
     time_step_settings_ = time_step_settings(p, scene_.time.time_step, scene_.source);
@@ -307,18 +308,19 @@ class EisphMethod final : public Method {
     const auto& free_surface = particles.field("free_surface");
     {
       const auto timed = measure(timers_, operators_phase_);
-      isph::pressure_acceleration(particles, neighbours_, samples_,
-                                  {rest_density_, scene_.physics.gravity, clamp_negative_pressure_}, kernel_, mass_,
-                                  rest_density_field_, free_surface, gradient_form_, acceleration_,
+      const isph::SamplePressure wall_rule{rest_density_, scene_.physics.gravity, clamp_negative_pressure_,
+                                           exclude_dry_wall_points_};
+      isph::pressure_acceleration(particles, neighbours_, samples_, wall_rule, kernel_, mass_, rest_density_field_,
+                                  free_surface, gradient_form_, acceleration_,
                                   computes_reactions_ || computes_sample_loads_ ? &renormalisation_ : nullptr);
       if (computes_sample_loads_) {
-        isph::add_pressure_sample_reactions(
-            particles, samples_, {rest_density_, scene_.physics.gravity, clamp_negative_pressure_}, kernel_, mass_,
-            rest_density_field_, free_surface, gradient_form_, renormalisation_, sample_scratch_, sample_loads_);
+        isph::add_pressure_sample_reactions(particles, samples_, wall_rule, kernel_, mass_, rest_density_field_,
+                                            free_surface, gradient_form_, renormalisation_, sample_scratch_,
+                                            sample_loads_);
       }
       if (computes_reactions_) {
         isph::add_pressure_wall_reactions(particles, neighbours_, kernel_, mass_, rest_density_field_, free_surface,
-                                          gradient_form_, renormalisation_, reaction_);
+                                          gradient_form_, renormalisation_, reaction_, wall_rule);
       }
     }
     {
@@ -378,6 +380,7 @@ class EisphMethod final : public Method {
   std::vector<double> surface_factor_;  // factor_i of (SURF) per particle, 0 where p = 0 is held
   isph::PressureGradientForm gradient_form_ = isph::PressureGradientForm::SymmetricCorrectedSurface;
   bool clamp_negative_pressure_ = true;
+  bool exclude_dry_wall_points_ = false;  // dry_wall_points "excluded" (isph_surface.hpp)
   StepLimits limits_;
   CellList cells_;
   NeighbourList neighbours_;
@@ -421,6 +424,7 @@ static std::vector<mps_lab::ParameterSpec> eisph_parameters() {
           .at_least(0.0)
           .at_most(1.0),
       isph::free_surface_offset_parameter(),
+      isph::dry_wall_points_parameter(),
       number_parameter("free_surface_density_ratio", 0.95, "",
                        "beta: rho*/rho0 < beta marks a free-surface particle, p = 0 (Shao & Lo 2003)")
           .above(0.0)

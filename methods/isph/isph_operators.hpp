@@ -194,15 +194,32 @@ inline Vec2 pressure_pair(const ParticleSet& particles, const SphKernel& kernel,
   return mass / (rho_i * rho_j) * (p_j - p_i) * gradient;                                   // zero for constant p
 }
 
-// How a wall sample's pressure enters the gradient: p_w = p_s + rho0 g . (x_w - x_s), and
-// max(p_w, 0) when negative pressures are clamped (as the method clamps wall particles'
+// How a wall point's pressure enters the gradient. A wall sample's is p_w = p_s + rho0 g . (x_w - x_s),
+// and max(p_w, 0) when negative pressures are clamped (as the method clamps wall particles'
 // pressures after the solve: a wall above the water whose extrapolated pressure is negative
-// would pull the fluid towards it).
+// would pull the fluid towards it). With exclude_dry (parameter dry_wall_points "excluded",
+// isph_surface.hpp) a dry wall point - above fluid particle i, against gravity, with a pressure
+// (a sample's before the clamp) not above 0 - is left out of i's gradient and its reaction: it
+// stands in the air above the water, where the clamped point would still push i away with i's
+// own pressure (the symmetric form's p_i term).
 struct SamplePressure {
   double rest_density = 1000.0;     // rho0, kg/m^3: the density of a sample
   Vec2 gravity = Vec2(0.0, -9.81);  // m/s^2
   bool clamp_negative = true;
+  bool exclude_dry = false;
 };
+
+// Whether the wall point at x_w with pressure p_w (Pa; a sample's before the clamp) is left out of
+// the gradient of fluid particle i at x_i under `rule` (SamplePressure).
+inline bool excluded_dry_point(const SamplePressure& rule, const Vec2& x_i, const Vec2& x_w, double p_w) {
+  return rule.exclude_dry && p_w <= 0.0 && (x_w - x_i).dot(rule.gravity) < 0.0;
+}
+inline bool excluded_dry_sample(const ParticleSet& particles, const SamplePressure& rule, std::size_t i,
+                                const WallSample& wall) {
+  return rule.exclude_dry && excluded_dry_point(rule, particles.position[i], wall.position,
+                                                sample_pressure(wall, particles.pressure, particles.position,
+                                                                rule.rest_density, rule.gravity));
+}
 
 // What wall sample w adds to grad p_i / rho_i before the renormalisation, m/s^2: pressure_pair with
 // mass m V_w, density rho0 and the pressure p_w of `rule`. Shared by pressure_acceleration and the
@@ -241,12 +258,14 @@ inline void pressure_acceleration(const ParticleSet& particles, const NeighbourL
 
 // The fluid's reaction on wall particles (docs/walls.md, "Loads on obstacles"): for every wall
 // particle j, minus the sum over its fluid neighbours i of m times the acceleration j's pair term
-// gives i - pressure: -L_i pressure_pair (L_i from pressure_acceleration); viscosity:
-// nu viscous_pair. Adds to `reaction`, N/m; with the inputs the fluid's operators had.
+// gives i - pressure: -L_i pressure_pair (L_i from pressure_acceleration; none for a dry wall
+// particle `rule` excludes); viscosity: nu viscous_pair. Adds to `reaction`, N/m; with the inputs
+// the fluid's operators had.
 void add_pressure_wall_reactions(const ParticleSet& particles, const NeighbourList& neighbours, const SphKernel& kernel,
                                  double mass, const std::vector<double>& density,
                                  const std::vector<double>& free_surface, PressureGradientForm form,
-                                 const std::vector<Eigen::Matrix2d>& renormalisation, std::vector<Vec2>& reaction);
+                                 const std::vector<Eigen::Matrix2d>& renormalisation, std::vector<Vec2>& reaction,
+                                 const SamplePressure& rule = SamplePressure{});
 void add_viscous_wall_reactions(const ParticleSet& particles, const NeighbourList& neighbours, const SphKernel& kernel,
                                 double mass, const std::vector<double>& density, double kinematic_viscosity,
                                 double eta2, std::vector<Vec2>& reaction);

@@ -61,6 +61,18 @@ ParameterSpec free_surface_offset_parameter() {
       .at_most(1.0);
 }
 
+ParameterSpec dry_wall_points_parameter() {
+  return string_parameter("dry_wall_points", "clamped",
+                          "a wall point above a fluid particle with pressure <= 0 (above the water): clamped (enters "
+                          "its pressure gradient with p = 0) or excluded (left out of it: air; for loads with "
+                          "free_surface_offset, docs/methods/isph.md)")
+      .one_of({"clamped", "excluded"});
+}
+
+bool excludes_dry_wall_points(const ParameterValues& parameters) {
+  return parameters.string("dry_wall_points") == "excluded";
+}
+
 void water_surface_factors(const ParticleSet& particles, const NeighbourList& neighbours, const WallSampleList& samples,
                            const SphKernel& kernel, const Vec2& gravity, const std::vector<double>& free_surface,
                            double offset, double spacing, std::vector<double>& factor) {

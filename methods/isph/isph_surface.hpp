@@ -41,6 +41,14 @@ constexpr double kMinimumSurfaceDepth = 0.25;
 // The scene key of isph and eisph: delta / l0, default 0 (p = 0 at the centres, Shao & Lo 2003).
 ParameterSpec free_surface_offset_parameter();
 
+// The scene key dry_wall_points of isph and eisph: "clamped" (default: a wall point above the water
+// enters the pressure gradient with its pressure clamped at 0) or "excluded" (a wall point above a
+// fluid particle whose pressure is not above 0 is left out of that particle's gradient and its
+// reaction: SamplePressure::exclude_dry, isph_operators.hpp; docs/methods/isph.md, "The water surface").
+ParameterSpec dry_wall_points_parameter();
+// Whether the method's parameters ask for "excluded".
+bool excludes_dry_wall_points(const ParameterValues& parameters);
+
 // Per particle, the factor of (SURF) written as p_i = factor_i sum_j W_ij p_j:
 // factor_i = delta / ((delta + d_i) sum_j W_ij), 1/(1/m^2). 0 for a particle held at p = 0 at its
 // centre: not a fluid particle on the free surface (`free_surface[i]` == 0), d_i too small, or
