@@ -19,17 +19,19 @@ namespace {
 // wall side of the reaction, CMPS's Phat), so that both see the same P_min.
 double minimum_pressure_of(const ParticleSet& particles, const NeighbourList& neighbours, const WallSampleList& samples,
                            const OperatorRadius& radius, const std::vector<char>& carries_pressure, double density,
-                           const Vec2& gravity, bool min_includes_self, std::size_t i) {
+                           const Vec2& gravity, bool min_includes_self, std::size_t i, const DryWallRule& dry) {
   const Vec2 xi = particles.position[i];
   double p_min = min_includes_self ? particles.pressure[i] : std::numeric_limits<double>::infinity();
   for_each_neighbour(neighbours, i, [&](std::uint32_t j) {
     if (!carries_pressure[j] || particles.type[j] == ParticleType::Ghost) return;
-    if ((particles.position[j] - xi).norm() >= radius.re) return;
+    if ((particles.position[j] - xi).norm() >= radius.re || dry.excludes_particle(particles, i, j)) return;
     p_min = std::min(p_min, particles.pressure[j]);
   });
   for_each_neighbour(samples, i, [&](const WallSample& wall) {
     if ((wall.position - xi).norm() >= radius.re) return;
-    p_min = std::min(p_min, sample_pressure(wall, particles.pressure, particles.position, density, gravity));
+    const double p_w = sample_pressure(wall, particles.pressure, particles.position, density, gravity);
+    if (dry.excludes(xi, wall.position, p_w)) return;
+    p_min = std::min(p_min, p_w);
   });
   return p_min;
 }
@@ -78,7 +80,8 @@ void add_viscous_acceleration(const ParticleSet& particles, const NeighbourList&
 
 void pressure_acceleration(const ParticleSet& particles, const NeighbourList& neighbours, const WallSampleList& samples,
                            const OperatorRadius& radius, const std::vector<char>& carries_pressure, double density,
-                           const Vec2& gravity, bool min_includes_self, std::vector<Vec2>& acceleration) {
+                           const Vec2& gravity, bool min_includes_self, std::vector<Vec2>& acceleration,
+                           const DryWallRule& dry) {
   const double coefficient = kDimension / radius.n0;
   const auto n = static_cast<std::ptrdiff_t>(particles.size());
 #pragma omp parallel for schedule(static)
@@ -86,13 +89,15 @@ void pressure_acceleration(const ParticleSet& particles, const NeighbourList& ne
     acceleration[i] = Vec2::Zero();
     if (particles.type[i] != ParticleType::Fluid) continue;
     const double p_min = minimum_pressure_of(particles, neighbours, samples, radius, carries_pressure, density, gravity,
-                                             min_includes_self, i);
+                                             min_includes_self, i, dry);
     Vec2 gradient = Vec2::Zero();  // Pa/m
     for_each_neighbour(neighbours, i, [&](std::uint32_t j) {
       if (!carries_pressure[j] || particles.type[j] == ParticleType::Ghost) return;
+      if (dry.excludes_particle(particles, i, j)) return;  // in the air (dry_wall_points excluded)
       gradient += gradient_pair(particles, i, j, p_min, radius);
     });
     for_each_neighbour(samples, i, [&](const WallSample& wall) {
+      if (dry.excludes_sample(particles, i, wall)) return;
       gradient += gradient_sample_pair(particles, i, wall, p_min, radius, density, gravity);
     });
     acceleration[i] = -(coefficient / density) * gradient;
@@ -101,14 +106,15 @@ void pressure_acceleration(const ParticleSet& particles, const NeighbourList& ne
 
 void neighbourhood_minimum(const ParticleSet& particles, const NeighbourList& neighbours, const WallSampleList& samples,
                            const OperatorRadius& radius, const std::vector<char>& carries_pressure, double density,
-                           const Vec2& gravity, bool min_includes_self, std::vector<double>& out) {
+                           const Vec2& gravity, bool min_includes_self, std::vector<double>& out,
+                           const DryWallRule& dry) {
   const auto n = static_cast<std::ptrdiff_t>(particles.size());
   out.assign(particles.size(), 0.0);
 #pragma omp parallel for schedule(static)
   for (std::ptrdiff_t i = 0; i < n; ++i) {
     if (!carries_pressure[i] || particles.type[i] == ParticleType::Ghost) continue;
     const double p_min = minimum_pressure_of(particles, neighbours, samples, radius, carries_pressure, density, gravity,
-                                             min_includes_self, i);
+                                             min_includes_self, i, dry);
     out[i] = std::isfinite(p_min) ? p_min : particles.pressure[i];  // no neighbour: no pair term either
   }
 }
@@ -130,14 +136,14 @@ void add_pressure_wall_reactions(const ParticleSet& particles, const NeighbourLi
                                  const OperatorRadius& radius, const std::vector<char>& carries_pressure,
                                  const std::vector<double>& minimum_pressure, bool cmps, double density,
                                  double particle_mass, std::vector<Vec2>& reaction,
-                                 const std::vector<Eigen::Matrix2d>* correction) {
+                                 const std::vector<Eigen::Matrix2d>* correction, const DryWallRule& dry) {
   // The force on i from j: -m (d / (n0 rho)) times the pair term of <grad P>_i (pressure_acceleration),
   // times C_i with the gradient correction.
   const double coefficient = -particle_mass * kDimension / (radius.n0 * density);  // kg m/(m Pa), per metre
   add_wall_reactions(
       particles, neighbours,
       [&](std::size_t i, std::size_t j) -> Vec2 {
-        if (!carries_pressure[j]) return Vec2::Zero();
+        if (!carries_pressure[j] || dry.excludes_particle(particles, i, j)) return Vec2::Zero();
         const Vec2 pair = coefficient * (cmps ? cmps_gradient_pair(particles, i, j, minimum_pressure, radius)
                                               : gradient_pair(particles, i, j, minimum_pressure[i], radius));
         return correction != nullptr ? Vec2((*correction)[i] * pair) : pair;
@@ -162,13 +168,14 @@ void add_pressure_sample_reactions(const ParticleSet& particles, const WallSampl
                                    const OperatorRadius& radius, const std::vector<double>& minimum_pressure, bool cmps,
                                    double density, const Vec2& gravity, double particle_mass,
                                    std::vector<Vec2>& scratch, WallSampleLoads& loads,
-                                   const std::vector<Eigen::Matrix2d>* correction) {
+                                   const std::vector<Eigen::Matrix2d>* correction, const DryWallRule& dry) {
   // The force on i from sample w: -m (d / (n0 rho)) times the sample's pair term of <grad P>_i
   // (times C_i with the gradient correction).
   const double coefficient = -particle_mass * kDimension / (radius.n0 * density);  // per metre of depth
   add_wall_sample_reactions(
       particles, samples,
       [&](std::size_t i, std::uint32_t, const WallSample& wall) -> Vec2 {
+        if (dry.excludes_sample(particles, i, wall)) return Vec2::Zero();
         const Vec2 pair =
             coefficient *
             (cmps ? cmps_gradient_sample_pair(particles, i, wall, minimum_pressure[i], radius, density, gravity)

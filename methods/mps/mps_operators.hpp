@@ -104,20 +104,45 @@ void add_viscous_acceleration(const ParticleSet& particles, const NeighbourList&
                               const WallSampleList& samples, const OperatorRadius& radius, double kinematic_viscosity,
                               std::vector<Vec2>& acceleration);
 
+// Which wall points enter the pressure gradient of fluid particle i (parameter dry_wall_points;
+// docs/methods/mps.md, "Dry wall points"). "extended" (exclude = false, the default): every
+// pressure-carrying wall particle (one above the water is a free-surface particle, P = 0) and
+// every wall sample with its hydrostatic extension p_s + rho g . (x_w - x_s), negative above
+// the water. "excluded": a wall point above i (against `gravity`) whose pressure is not above 0
+// is in the air and left out of i's P_min, its gradient, GC's M_i and the reactions.
+struct DryWallRule {
+  bool exclude = false;
+  Vec2 gravity = Vec2::Zero();  // m/s^2
+  double density = 1000.0;      // kg/m^3: of the samples' hydrostatic extension
+  bool excludes(const Vec2& x_i, const Vec2& x_w, double p_w) const {
+    return exclude && p_w <= 0.0 && (x_w - x_i).dot(gravity) < 0.0;
+  }
+  bool excludes_particle(const ParticleSet& particles, std::size_t i, std::size_t j) const {
+    return exclude && particles.type[j] == ParticleType::Wall &&
+           excludes(particles.position[i], particles.position[j], particles.pressure[j]);
+  }
+  bool excludes_sample(const ParticleSet& particles, std::size_t i, const WallSample& wall) const {
+    return exclude && excludes(particles.position[i], wall.position,
+                               sample_pressure(wall, particles.pressure, particles.position, density, gravity));
+  }
+};
+
 // <grad P>_i = (d/n0) sum_j (P_j - P_min,i) / |r_ij|^2 r_ij w_ij (spec §2), for fluid
 // particles, over neighbours with carries_pressure[j]; P_min,i is the minimum pressure over
 // those neighbours, and over i itself when `min_includes_self`; wall samples enter both with
-// p_w = p_s + rho g . (x_w - x_s). Writes -(1/rho) <grad P>_i.
+// p_w = p_s + rho g . (x_w - x_s); `dry` may leave dry wall points out. Writes -(1/rho) <grad P>_i.
 void pressure_acceleration(const ParticleSet& particles, const NeighbourList& neighbours, const WallSampleList& samples,
                            const OperatorRadius& radius, const std::vector<char>& carries_pressure, double density,
-                           const Vec2& gravity, bool min_includes_self, std::vector<Vec2>& acceleration);
+                           const Vec2& gravity, bool min_includes_self, std::vector<Vec2>& acceleration,
+                           const DryWallRule& dry = DryWallRule{});
 
 // P_min,i (the spec's, §2) or Phat_i (CMPS): the minimum pressure over i's pressure-carrying
 // neighbours and wall samples within re, and over i itself when `min_includes_self`, for every
 // pressure-carrying particle (i's own pressure where it has none), Pa.
 void neighbourhood_minimum(const ParticleSet& particles, const NeighbourList& neighbours, const WallSampleList& samples,
                            const OperatorRadius& radius, const std::vector<char>& carries_pressure, double density,
-                           const Vec2& gravity, bool min_includes_self, std::vector<double>& out);
+                           const Vec2& gravity, bool min_includes_self, std::vector<double>& out,
+                           const DryWallRule& dry = DryWallRule{});
 
 // The fluid's reaction on wall particles (docs/walls.md, "Loads on obstacles"): for every wall
 // particle j, minus the sum over its fluid neighbours i of m nu <lap u> pair term (spec §2,
@@ -135,7 +160,8 @@ void add_pressure_wall_reactions(const ParticleSet& particles, const NeighbourLi
                                  const OperatorRadius& radius, const std::vector<char>& carries_pressure,
                                  const std::vector<double>& minimum_pressure, bool cmps, double density,
                                  double particle_mass, std::vector<Vec2>& reaction,
-                                 const std::vector<Eigen::Matrix2d>* correction = nullptr);
+                                 const std::vector<Eigen::Matrix2d>* correction = nullptr,
+                                 const DryWallRule& dry = DryWallRule{});
 
 // The same on wall samples (obstacle_load pair_reaction with a boundary model of wall samples; core/walls/
 // wall_sample_reactions.hpp): adds to `loads` the reaction of each obstacle's samples of the viscous and
@@ -147,6 +173,7 @@ void add_pressure_sample_reactions(const ParticleSet& particles, const WallSampl
                                    const OperatorRadius& radius, const std::vector<double>& minimum_pressure, bool cmps,
                                    double density, const Vec2& gravity, double particle_mass,
                                    std::vector<Vec2>& scratch, WallSampleLoads& loads,
-                                   const std::vector<Eigen::Matrix2d>* correction = nullptr);
+                                   const std::vector<Eigen::Matrix2d>* correction = nullptr,
+                                   const DryWallRule& dry = DryWallRule{});
 
 }  // namespace mps_lab::mps

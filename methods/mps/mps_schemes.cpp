@@ -142,9 +142,9 @@ void cmps_pressure_acceleration(const ParticleSet& particles, const NeighbourLis
                                 const WallSampleList& samples, const OperatorRadius& radius,
                                 const std::vector<char>& carries_pressure, double density, const Vec2& gravity,
                                 bool min_includes_self, std::vector<double>& minimum_pressure,
-                                std::vector<Vec2>& acceleration) {
+                                std::vector<Vec2>& acceleration, const DryWallRule& dry) {
   neighbourhood_minimum(particles, neighbours, samples, radius, carries_pressure, density, gravity, min_includes_self,
-                        minimum_pressure);
+                        minimum_pressure, dry);
   const double coefficient = kDimension / radius.n0;
   const auto n = static_cast<std::ptrdiff_t>(particles.size());
 #pragma omp parallel for schedule(static)
@@ -155,9 +155,11 @@ void cmps_pressure_acceleration(const ParticleSet& particles, const NeighbourLis
     Vec2 gradient = Vec2::Zero();  // Pa/m
     for_each_neighbour(neighbours, i, [&](std::uint32_t j) {
       if (!carries_pressure[j] || particles.type[j] == ParticleType::Ghost) return;
+      if (dry.excludes_particle(particles, static_cast<std::size_t>(i), j)) return;
       gradient += cmps_gradient_pair(particles, i, j, minimum_pressure, radius);  // Khayyer & Gotoh (2008)
     });
     for_each_neighbour(samples, i, [&](const WallSample& wall) {
+      if (dry.excludes_sample(particles, static_cast<std::size_t>(i), wall)) return;
       gradient += cmps_gradient_sample_pair(particles, i, wall, p_hat_i, radius, density, gravity);
     });
     acceleration[i] = -(coefficient / density) * gradient;
@@ -169,7 +171,7 @@ void cmps_pressure_acceleration(const ParticleSet& particles, const NeighbourLis
 namespace {
 Eigen::Matrix2d gradient_moment(const ParticleSet& particles, const NeighbourList& neighbours,
                                 const WallSampleList& samples, const OperatorRadius& radius,
-                                const std::vector<char>& carries_pressure, std::size_t i) {
+                                const std::vector<char>& carries_pressure, const DryWallRule& dry, std::size_t i) {
   Eigen::Matrix2d moment = Eigen::Matrix2d::Zero();
   const auto add = [&](const Vec2& r_ij, double volume) {
     const double r = r_ij.norm();
@@ -178,18 +180,21 @@ Eigen::Matrix2d gradient_moment(const ParticleSet& particles, const NeighbourLis
     moment += (volume * w / std::max(r * r, radius.r_min * radius.r_min)) * (r_ij * r_ij.transpose());
   };
   for_each_neighbour(neighbours, i, [&](std::uint32_t j) {
-    if (!carries_pressure[j] || particles.type[j] == ParticleType::Ghost) return;
+    if (!carries_pressure[j] || particles.type[j] == ParticleType::Ghost || dry.excludes_particle(particles, i, j))
+      return;
     add(particles.position[j] - particles.position[i], 1.0);
   });
-  for_each_neighbour(samples, i,
-                     [&](const WallSample& wall) { add(wall.position - particles.position[i], wall.volume); });
+  for_each_neighbour(samples, i, [&](const WallSample& wall) {
+    if (!dry.excludes_sample(particles, i, wall)) add(wall.position - particles.position[i], wall.volume);
+  });
   return (kDimension / radius.n0) * moment;
 }
 }  // namespace
 
 void gradient_correction_matrices(const ParticleSet& particles, const NeighbourList& neighbours,
                                   const WallSampleList& samples, const OperatorRadius& radius,
-                                  const std::vector<char>& carries_pressure, std::vector<Eigen::Matrix2d>& correction) {
+                                  const std::vector<char>& carries_pressure, std::vector<Eigen::Matrix2d>& correction,
+                                  const DryWallRule& dry) {
   const auto n = static_cast<std::ptrdiff_t>(particles.size());
   correction.resize(particles.size());
 #pragma omp parallel for schedule(static)
@@ -197,7 +202,7 @@ void gradient_correction_matrices(const ParticleSet& particles, const NeighbourL
     correction[i] = Eigen::Matrix2d::Identity();
     if (particles.type[i] != ParticleType::Fluid) continue;
     const Eigen::Matrix2d moment =
-        gradient_moment(particles, neighbours, samples, radius, carries_pressure, static_cast<std::size_t>(i));
+        gradient_moment(particles, neighbours, samples, radius, carries_pressure, dry, static_cast<std::size_t>(i));
     if (moment.determinant() > kMinimumCorrectionDeterminant) correction[i] = moment.inverse();
   }
 }

@@ -88,12 +88,13 @@ void cmps_pressure_acceleration(const ParticleSet& particles, const NeighbourLis
                                 const WallSampleList& samples, const OperatorRadius& radius,
                                 const std::vector<char>& carries_pressure, double density, const Vec2& gravity,
                                 bool min_includes_self, std::vector<double>& minimum_pressure,
-                                std::vector<Vec2>& acceleration);
+                                std::vector<Vec2>& acceleration, const DryWallRule& dry = DryWallRule{});
 
 // GC, the corrective matrix of the pressure gradient (Khayyer & Gotoh 2011, J. Comput. Phys. 230,
 // "Enhancement of stability and accuracy of the moving particle semi-implicit method"):
 //   C_i = M_i^-1,   M_i = (d/n0) sum_j w_ij r_ij r_ij^T / |r_ij|^2
-// over the gradient's neighbours (pressure-carrying, non-ghost; a wall sample V_w times), r
+// over the gradient's neighbours (pressure-carrying, non-ghost, not left out by `dry`; a wall
+// sample V_w times), r
 // clamped to r_min as in the weight. The spec's gradient of a pressure P = P_i + a . r_ij is
 // M_i a (plus the P_min term, 0 where i is its neighbourhood's minimum), so C_i makes it a at any
 // arrangement; on the full lattice M = I (C changes nothing), on a flat free surface
@@ -104,7 +105,8 @@ void cmps_pressure_acceleration(const ParticleSet& particles, const NeighbourLis
 constexpr double kMinimumCorrectionDeterminant = 0.1;  // a flat surface: 0.43; a fluid corner: 0.18
 void gradient_correction_matrices(const ParticleSet& particles, const NeighbourList& neighbours,
                                   const WallSampleList& samples, const OperatorRadius& radius,
-                                  const std::vector<char>& carries_pressure, std::vector<Eigen::Matrix2d>& correction);
+                                  const std::vector<char>& carries_pressure, std::vector<Eigen::Matrix2d>& correction,
+                                  const DryWallRule& dry = DryWallRule{});
 
 // a_i <- C_i a_i for every fluid particle: the pressure acceleration -(1/rho) <grad P>_i (spec or
 // CMPS) is linear in the gradient, so this is -(1/rho) C_i <grad P>_i.
