@@ -83,6 +83,14 @@ inline double sample_pressure_offset(const WallSample& sample, const std::vector
   return rest_density * (gravity - sample.wall_acceleration).dot(sample.position - position[sample.source]);
 }
 
+// A dry wall point: one above fluid particle i at x_i (against `gravity`, m/s^2) whose pressure
+// p_w (Pa; a sample's hydrostatic extension before any clamp) is not above 0, i.e. in the air
+// above the water. The methods' option dry_wall_points "excluded" (isph, eisph, mps) leaves such
+// points out of i's pressure gradient and its reaction. Wall particles and samples alike.
+inline bool dry_wall_point(const Vec2& x_i, const Vec2& x_w, double p_w, const Vec2& gravity) {
+  return p_w <= 0.0 && (x_w - x_i).dot(gravity) < 0.0;
+}
+
 // u_w of a sample, m/s.
 inline Vec2 sample_velocity(const WallSample& sample, const std::vector<Vec2>& velocity) {
   return sample.velocity_map * velocity[sample.source] + sample.wall_velocity;

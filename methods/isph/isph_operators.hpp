@@ -212,7 +212,7 @@ struct SamplePressure {
 // Whether the wall point at x_w with pressure p_w (Pa; a sample's before the clamp) is left out of
 // the gradient of fluid particle i at x_i under `rule` (SamplePressure).
 inline bool excluded_dry_point(const SamplePressure& rule, const Vec2& x_i, const Vec2& x_w, double p_w) {
-  return rule.exclude_dry && p_w <= 0.0 && (x_w - x_i).dot(rule.gravity) < 0.0;
+  return rule.exclude_dry && dry_wall_point(x_i, x_w, p_w, rule.gravity);
 }
 inline bool excluded_dry_sample(const ParticleSet& particles, const SamplePressure& rule, std::size_t i,
                                 const WallSample& wall) {

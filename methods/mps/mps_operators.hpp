@@ -115,7 +115,7 @@ struct DryWallRule {
   Vec2 gravity = Vec2::Zero();  // m/s^2
   double density = 1000.0;      // kg/m^3: of the samples' hydrostatic extension
   bool excludes(const Vec2& x_i, const Vec2& x_w, double p_w) const {
-    return exclude && p_w <= 0.0 && (x_w - x_i).dot(gravity) < 0.0;
+    return exclude && dry_wall_point(x_i, x_w, p_w, gravity);
   }
   bool excludes_particle(const ParticleSet& particles, std::size_t i, std::size_t j) const {
     return exclude && particles.type[j] == ParticleType::Wall &&
