@@ -220,11 +220,11 @@ TEST_CASE("isph dry wall points: which wall points dry_wall_points \"excluded\" 
   const isph::SamplePressure clamped{kRho, Vec2(0.0, -kG), true, false};
   const isph::SamplePressure weightless{kRho, Vec2::Zero(), true, true};
   const Vec2 above = x_i + Vec2(0.01, 0.02), beside = x_i + Vec2(0.025, 0.0), below = x_i + Vec2(0.0, -0.025);
-  CHECK(isph::excluded_dry_point(excluded, x_i, above, 0.0));
-  CHECK(isph::excluded_dry_point(excluded, x_i, above, -50.0));
-  CHECK_FALSE(isph::excluded_dry_point(excluded, x_i, above, 1.0));
-  CHECK_FALSE(isph::excluded_dry_point(excluded, x_i, beside, -50.0));
-  CHECK_FALSE(isph::excluded_dry_point(excluded, x_i, below, -50.0));
-  CHECK_FALSE(isph::excluded_dry_point(clamped, x_i, above, -50.0));
-  CHECK_FALSE(isph::excluded_dry_point(weightless, x_i, above, -50.0));
+  CHECK(excluded.dry_rule().excludes(x_i, above, 0.0));
+  CHECK(excluded.dry_rule().excludes(x_i, above, -50.0));
+  CHECK_FALSE(excluded.dry_rule().excludes(x_i, above, 1.0));
+  CHECK_FALSE(excluded.dry_rule().excludes(x_i, beside, -50.0));
+  CHECK_FALSE(excluded.dry_rule().excludes(x_i, below, -50.0));
+  CHECK_FALSE(clamped.dry_rule().excludes(x_i, above, -50.0));
+  CHECK_FALSE(weightless.dry_rule().excludes(x_i, above, -50.0));
 }

@@ -31,6 +31,7 @@
 
 #include <Eigen/Core>
 
+#include "core/base/particles.hpp"
 #include "core/base/types.hpp"
 
 namespace mps_lab {
@@ -90,6 +91,31 @@ inline double sample_pressure_offset(const WallSample& sample, const std::vector
 inline bool dry_wall_point(const Vec2& x_i, const Vec2& x_w, double p_w, const Vec2& gravity) {
   return p_w <= 0.0 && (x_w - x_i).dot(gravity) < 0.0;
 }
+
+// Which wall points enter the pressure gradient of fluid particle i: the methods' parameter
+// dry_wall_points (mps: "extended" | "excluded", docs/methods/mps.md, "Dry wall points"; isph and
+// eisph: "clamped" | "excluded", docs/methods/isph.md). With exclude = false every wall point enters
+// as the method has it; with exclude = true a dry wall point (dry_wall_point above: above i, with a
+// pressure not above 0; a sample's the hydrostatic extension p_s + rho0 g . (x_w - x_s), before any
+// clamp) is in the air and left out of i's gradient, of what the gradient is built from (mps's
+// P_min and GC's M_i, isph's renormalisation) and of the reactions.
+struct DryWallRule {
+  bool exclude = false;
+  Vec2 gravity = Vec2::Zero();  // m/s^2
+  double density = 1000.0;      // kg/m^3: of the samples' hydrostatic extension
+  bool excludes(const Vec2& x_i, const Vec2& x_w, double p_w) const {
+    return exclude && dry_wall_point(x_i, x_w, p_w, gravity);
+  }
+  // Neighbour j of fluid particle i: only a wall particle can be dry.
+  bool excludes_particle(const ParticleSet& particles, std::size_t i, std::size_t j) const {
+    return exclude && particles.type[j] == ParticleType::Wall &&
+           excludes(particles.position[i], particles.position[j], particles.pressure[j]);
+  }
+  bool excludes_sample(const ParticleSet& particles, std::size_t i, const WallSample& wall) const {
+    return exclude && excludes(particles.position[i], wall.position,
+                               sample_pressure(wall, particles.pressure, particles.position, density, gravity));
+  }
+};
 
 // u_w of a sample, m/s.
 inline Vec2 sample_velocity(const WallSample& sample, const std::vector<Vec2>& velocity) {

@@ -144,6 +144,7 @@ void pressure_acceleration(const ParticleSet& particles, const NeighbourList& ne
   acceleration.resize(particles.size());
   if (renormalisation != nullptr) renormalisation->assign(particles.size(), Eigen::Matrix2d::Identity());
   const double rho_w = sample_rule.rest_density;
+  const DryWallRule dry = sample_rule.dry_rule();
 #pragma omp parallel for schedule(static)
   for (std::ptrdiff_t i = 0; i < n; ++i) {
     acceleration[i] = Vec2::Zero();
@@ -154,10 +155,8 @@ void pressure_acceleration(const ParticleSet& particles, const NeighbourList& ne
     Eigen::Matrix2d moment = Eigen::Matrix2d::Zero();  // sum_j V_j grad W_ij (x_j - x_i)^T
     for_each_neighbour(neighbours, i, [&](std::uint32_t j) {
       if (particles.type[j] == ParticleType::Ghost) return;
-      if (particles.type[j] == ParticleType::Wall &&
-          excluded_dry_point(sample_rule, particles.position[i], particles.position[j], particles.pressure[j]))
-        return;  // in the air above the water (dry_wall_points excluded)
-      sum += pressure_pair(particles, kernel, mass, density, symmetric, i, j);  // symmetric or difference form
+      if (dry.excludes_particle(particles, static_cast<std::size_t>(i), j)) return;  // in the air (dry_wall_points)
+      sum += pressure_pair(particles, kernel, mass, density, symmetric, i, j);       // symmetric or difference form
       if (!symmetric) {
         const Vec2 r_ij = particles.position[i] - particles.position[j];
         moment -= mass / density[j] * kernel.gradient(r_ij) * r_ij.transpose();
@@ -166,7 +165,7 @@ void pressure_acceleration(const ParticleSet& particles, const NeighbourList& ne
     // Wall samples: particles of mass m V_w, density rho0, pressure p_s + rho0 g . (x_w - x_s).
     for_each_neighbour(samples, i, [&](const WallSample& wall) {
       if (particles.type[wall.source] == ParticleType::Ghost) return;
-      if (excluded_dry_sample(particles, sample_rule, static_cast<std::size_t>(i), wall)) return;
+      if (dry.excludes_sample(particles, static_cast<std::size_t>(i), wall)) return;
       sum += pressure_sample_pair(particles, sample_rule, kernel, mass, density, symmetric, i, wall);
       if (!symmetric) {
         const Vec2 r_iw = particles.position[i] - wall.position;
@@ -189,11 +188,11 @@ void add_pressure_wall_reactions(const ParticleSet& particles, const NeighbourLi
                                  const std::vector<Eigen::Matrix2d>& renormalisation, std::vector<Vec2>& reaction,
                                  const SamplePressure& rule) {
   // The force on i from j: m a_ij = -m L_i pressure_pair(i, j) (pressure_acceleration).
+  const DryWallRule dry = rule.dry_rule();
   add_wall_reactions(
       particles, neighbours,
       [&](std::size_t i, std::size_t j) -> Vec2 {
-        if (excluded_dry_point(rule, particles.position[i], particles.position[j], particles.pressure[j]))
-          return Vec2::Zero();
+        if (dry.excludes_particle(particles, i, j)) return Vec2::Zero();
         const bool symmetric = symmetric_gradient(form, free_surface[i]);
         return -mass * (renormalisation[i] * pressure_pair(particles, kernel, mass, density, symmetric, i, j));
       },
@@ -218,10 +217,11 @@ void add_pressure_sample_reactions(const ParticleSet& particles, const WallSampl
                                    PressureGradientForm form, const std::vector<Eigen::Matrix2d>& renormalisation,
                                    std::vector<Vec2>& scratch, WallSampleLoads& loads) {
   // The force on i from sample w: m a_iw = -m L_i pressure_sample_pair(i, w) (pressure_acceleration).
+  const DryWallRule dry = rule.dry_rule();
   add_wall_sample_reactions(
       particles, samples,
       [&](std::size_t i, std::uint32_t, const WallSample& wall) -> Vec2 {
-        if (particles.type[wall.source] == ParticleType::Ghost || excluded_dry_sample(particles, rule, i, wall))
+        if (particles.type[wall.source] == ParticleType::Ghost || dry.excludes_sample(particles, i, wall))
           return Vec2::Zero();
         const bool symmetric = symmetric_gradient(form, free_surface[i]);
         return -mass *

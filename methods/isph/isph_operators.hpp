@@ -207,19 +207,9 @@ struct SamplePressure {
   Vec2 gravity = Vec2(0.0, -9.81);  // m/s^2
   bool clamp_negative = true;
   bool exclude_dry = false;
+  // The wall points left out of fluid particles' gradients (core/walls/wall_samples.hpp).
+  DryWallRule dry_rule() const { return {exclude_dry, gravity, rest_density}; }
 };
-
-// Whether the wall point at x_w with pressure p_w (Pa; a sample's before the clamp) is left out of
-// the gradient of fluid particle i at x_i under `rule` (SamplePressure).
-inline bool excluded_dry_point(const SamplePressure& rule, const Vec2& x_i, const Vec2& x_w, double p_w) {
-  return rule.exclude_dry && dry_wall_point(x_i, x_w, p_w, rule.gravity);
-}
-inline bool excluded_dry_sample(const ParticleSet& particles, const SamplePressure& rule, std::size_t i,
-                                const WallSample& wall) {
-  return rule.exclude_dry && excluded_dry_point(rule, particles.position[i], wall.position,
-                                                sample_pressure(wall, particles.pressure, particles.position,
-                                                                rule.rest_density, rule.gravity));
-}
 
 // What wall sample w adds to grad p_i / rho_i before the renormalisation, m/s^2: pressure_pair with
 // mass m V_w, density rho0 and the pressure p_w of `rule`. Shared by pressure_acceleration and the

@@ -44,7 +44,8 @@ ParameterSpec free_surface_offset_parameter();
 // The scene key dry_wall_points of isph and eisph: "clamped" (default: a wall point above the water
 // enters the pressure gradient with its pressure clamped at 0) or "excluded" (a wall point above a
 // fluid particle whose pressure is not above 0 is left out of that particle's gradient and its
-// reaction: SamplePressure::exclude_dry, isph_operators.hpp; docs/methods/isph.md, "The water surface").
+// reaction: SamplePressure::dry_rule, isph_operators.hpp, and DryWallRule, core/walls/wall_samples.hpp;
+// docs/methods/isph.md, "The water surface").
 ParameterSpec dry_wall_points_parameter();
 // Whether the method's parameters ask for "excluded".
 bool excludes_dry_wall_points(const ParameterValues& parameters);

@@ -469,7 +469,7 @@ class MpsMethod final : public Method {
   std::vector<double> scheme_source_;        // b_i of the source term, Pa/m^2
   std::vector<double> minimum_pressure_;     // Phat of CMPS, Pa
   bool gradient_correction_ = false;         // GC (mps_schemes.hpp)
-  DryWallRule dry_;                          // dry_wall_points (mps_operators.hpp)
+  DryWallRule dry_;                          // dry_wall_points (core/walls/wall_samples.hpp)
   std::vector<Eigen::Matrix2d> correction_;  // C_i of GC, per particle
   nlohmann::json scheme_names_;              // for run.json
   std::string preconditioner_choice_;        // the parameter: "auto" or a preconditioner
@@ -500,7 +500,7 @@ class MpsMethod final : public Method {
 
 }  // namespace
 // The pressure schemes' parameters (mps_schemes.hpp, "Pressure schemes" of docs/methods/mps.md)
-// and the dry-wall rule (mps_operators.hpp), in the order `mps_lab methods -p` lists them.
+// and the dry-wall rule (DryWallRule, core/walls/wall_samples.hpp), in the order `mps_lab methods -p` lists them.
 std::vector<ParameterSpec> pressure_scheme_parameters() {
   return {
       string_parameter("pressure_gradient", "spec",
@@ -512,7 +512,7 @@ std::vector<ParameterSpec> pressure_scheme_parameters() {
       string_parameter("dry_wall_points", "extended",
                        "a wall point above a fluid particle with pressure <= 0 (above the water): extended (enters "
                        "P_min and the gradient as it is: a wall sample with its hydrostatic extension, negative there) "
-                       "or excluded (left out: air; methods/mps/mps_operators.hpp)")
+                       "or excluded (left out: air; core/walls/wall_samples.hpp)")
           .one_of({"extended", "excluded"}),
       string_parameter("source_term", "spec",
                        "PPE source: spec (§8, relaxation (n* - n0)/n0), hs (Khayyer & Gotoh 2009, Dn/Dt), ecs "

@@ -104,29 +104,6 @@ void add_viscous_acceleration(const ParticleSet& particles, const NeighbourList&
                               const WallSampleList& samples, const OperatorRadius& radius, double kinematic_viscosity,
                               std::vector<Vec2>& acceleration);
 
-// Which wall points enter the pressure gradient of fluid particle i (parameter dry_wall_points;
-// docs/methods/mps.md, "Dry wall points"). "extended" (exclude = false, the default): every
-// pressure-carrying wall particle (one above the water is a free-surface particle, P = 0) and
-// every wall sample with its hydrostatic extension p_s + rho g . (x_w - x_s), negative above
-// the water. "excluded": a wall point above i (against `gravity`) whose pressure is not above 0
-// is in the air and left out of i's P_min, its gradient, GC's M_i and the reactions.
-struct DryWallRule {
-  bool exclude = false;
-  Vec2 gravity = Vec2::Zero();  // m/s^2
-  double density = 1000.0;      // kg/m^3: of the samples' hydrostatic extension
-  bool excludes(const Vec2& x_i, const Vec2& x_w, double p_w) const {
-    return exclude && dry_wall_point(x_i, x_w, p_w, gravity);
-  }
-  bool excludes_particle(const ParticleSet& particles, std::size_t i, std::size_t j) const {
-    return exclude && particles.type[j] == ParticleType::Wall &&
-           excludes(particles.position[i], particles.position[j], particles.pressure[j]);
-  }
-  bool excludes_sample(const ParticleSet& particles, std::size_t i, const WallSample& wall) const {
-    return exclude && excludes(particles.position[i], wall.position,
-                               sample_pressure(wall, particles.pressure, particles.position, density, gravity));
-  }
-};
-
 // <grad P>_i = (d/n0) sum_j (P_j - P_min,i) / |r_ij|^2 r_ij w_ij (spec §2), for fluid
 // particles, over neighbours with carries_pressure[j]; P_min,i is the minimum pressure over
 // those neighbours, and over i itself when `min_includes_self`; wall samples enter both with
