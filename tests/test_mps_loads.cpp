@@ -183,6 +183,63 @@ TEST_CASE("mps dry wall points: which wall points dry_wall_points excluded leave
   CHECK_FALSE(weightless.excludes(x_i, above, -50.0));
 }
 
+TEST_CASE("mps dry wall points: dry wall samples drop out of P_min, the gradient and the sample reaction",
+          "[mps][loads]") {
+  // Fluid A = (0, 0) at 100 Pa and B = (l0, 0) at 200 Pa under gravity; A has two tank samples
+  // above it, at (0, l0) and (0, 2 l0), source A: p_w = 100 - rho g y_w = -145.25 and -390.5 Pa,
+  // both dry. "excluded": A's P_min is min(100, 200) = 100 (extended: -390.5), and A's and B's
+  // accelerations are those without any sample, to the bit, the spec's and CMPS's alike; the
+  // samples' reaction is exactly 0. "extended": the samples push A (reaction > 1 N/m here).
+  const double l0 = 0.025;
+  const mps::OperatorRadius radius = mps::make_operator_radius(l0, 2.1 * l0, 0.01 * l0);
+  const Vec2 g(0.0, -kGravity);
+  const double mass = kDensity * l0 * l0;
+  ParticleSet p;
+  p.add(Vec2(0.0, 0.0), Vec2::Zero(), ParticleType::Fluid);
+  p.add(Vec2(l0, 0.0), Vec2::Zero(), ParticleType::Fluid);
+  p.pressure = {100.0, 200.0};
+  WallSampleList samples;
+  samples.offsets = {0, 2, 2};
+  for (const Vec2& x : {Vec2(0.0, l0), Vec2(0.0, 2.0 * l0)}) {
+    WallSample wall;
+    wall.position = x;
+    wall.source = 0;
+    samples.samples.push_back(wall);
+  }
+  const NeighbourList list = find_neighbours(p.position, p.type, radius.re);
+  const std::vector<char> carries(2, 1);
+  const DryWallRule excluded{true, g, kDensity}, extended{false, g, kDensity};
+  std::vector<double> minimum;
+  mps::neighbourhood_minimum(p, list, samples, radius, carries, kDensity, g, true, minimum, excluded);
+  CHECK(minimum[0] == 100.0);
+  mps::neighbourhood_minimum(p, list, samples, radius, carries, kDensity, g, true, minimum, extended);
+  CHECK(minimum[0] == Approx(100.0 - 2.0 * kDensity * kGravity * l0).epsilon(1e-12));
+  std::vector<Vec2> with(2), without(2);
+  mps::pressure_acceleration(p, list, samples, radius, carries, kDensity, g, true, with, excluded);
+  mps::pressure_acceleration(p, list, WallSampleList{}, radius, carries, kDensity, g, true, without, excluded);
+  CHECK(with == without);
+  std::vector<double> unused;
+  mps::cmps_pressure_acceleration(p, list, samples, radius, carries, kDensity, g, true, minimum, with, excluded);
+  mps::cmps_pressure_acceleration(p, list, WallSampleList{}, radius, carries, kDensity, g, true, unused, without,
+                                  excluded);
+  CHECK(with == without);
+  for (const bool cmps : {false, true}) {
+    std::vector<Vec2> scratch;
+    WallSampleLoads dry_loads, wet_loads;
+    dry_loads.reset(0);
+    wet_loads.reset(0);
+    mps::neighbourhood_minimum(p, list, samples, radius, carries, kDensity, g, true, minimum, excluded);
+    mps::add_pressure_sample_reactions(p, samples, radius, minimum, cmps, kDensity, g, mass, scratch, dry_loads,
+                                       nullptr, excluded);
+    mps::neighbourhood_minimum(p, list, samples, radius, carries, kDensity, g, true, minimum, extended);
+    mps::add_pressure_sample_reactions(p, samples, radius, minimum, cmps, kDensity, g, mass, scratch, wet_loads,
+                                       nullptr, extended);
+    INFO("cmps " << cmps << ": extended reaction " << wet_loads.tank_force.transpose() << " N/m");
+    CHECK(dry_loads.tank_force == Vec2::Zero());
+    CHECK(wet_loads.tank_force.norm() > 1.0);
+  }
+}
+
 TEST_CASE("obstacle loads: mps still water - the spec's gradient against the momentum-conserving CMPS one",
           "[mps][loads][hydrostatic]") {
   // obstacle_load pair_reaction (the default is wall_pressure: tests/test_mps_surface_loads.cpp).

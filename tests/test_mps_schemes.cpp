@@ -86,6 +86,37 @@ TEST_CASE("CMPS gradient: a hand-computed pair sum on three particles", "[mps][s
   CHECK(acceleration[1].y() == Approx(expected_b.y()).epsilon(1e-12));
 }
 
+TEST_CASE("CMPS gradient with a wall sample: the hand sum of its pair", "[mps][schemes]") {
+  // Fluid A = (0, 0) at 100 Pa and B = (l0, 0) at 50 Pa; A has one wall sample w at (0, -l0),
+  // source A, volume 1: p_w = p_A + rho g . (x_w - x_A) = 100 + 1000 * 9.81 * l0 = 345.25 Pa.
+  // Phat_A = min(100, 50, 345.25) = 50 = Phat_B. A's sum: pair AB (100 + 50) - (50 + 50) = 50
+  // over l0^2 along (l0, 0), and the sample's (P_A + p_w) - 2 Phat_A = 345.25 over l0^2 along
+  // (0, -l0), both with w(l0) = 1.1. The spec's sample term (p_w - Phat_A) = 295.25 differs.
+  ParticleSet p;
+  p.add(Vec2(0.0, 0.0), Vec2::Zero(), ParticleType::Fluid);
+  p.add(Vec2(kL0, 0.0), Vec2::Zero(), ParticleType::Fluid);
+  p.pressure = {100.0, 50.0};
+  WallSampleList samples;
+  samples.offsets = {0, 1, 1};
+  WallSample wall;
+  wall.position = Vec2(0.0, -kL0);
+  wall.source = 0;
+  samples.samples.push_back(wall);
+  const OperatorRadius radius = radius_21();
+  const NeighbourList list = find_neighbours(p.position, p.type, radius.re);
+  const std::vector<char> carries(2, 1);
+  std::vector<double> p_hat;
+  std::vector<Vec2> acceleration(2, Vec2::Zero());
+  cmps_pressure_acceleration(p, list, samples, radius, carries, kRho, kGravity, true, p_hat, acceleration);
+  const double p_w = 100.0 + kRho * 9.81 * kL0;
+  CHECK(p_hat[0] == 50.0);
+  const Vec2 sum_a = 50.0 * 1.1 / (kL0 * kL0) * Vec2(kL0, 0.0) +
+                     ((100.0 + p_w) - 2.0 * 50.0) * 1.1 / (kL0 * kL0) * Vec2(0.0, -kL0);  // Pa/m
+  const Vec2 expected_a = -(2.0 / radius.n0) / kRho * sum_a;
+  CHECK(acceleration[0].x() == Approx(expected_a.x()).epsilon(1e-12));
+  CHECK(acceleration[0].y() == Approx(expected_a.y()).epsilon(1e-12));
+}
+
 TEST_CASE("CMPS gradient conserves linear momentum - the spec's does not", "[mps][schemes]") {
   // Equal masses: the pair force of j on i is minus that of i on j, so the accelerations of an
   // isolated group sum to zero up to round-off (1e-12 of the summed magnitudes: each of ~12 terms

@@ -17,10 +17,18 @@ the spec item itself. A mutation that does not compile counts as killed by the c
     tools/mutation_test.py --only ID [--only ID2]   # updates those rows of the report
     tools/mutation_test.py --check          # every `old` occurs exactly once; no build
 
+A second list, tests/mutations/pressure_schemes.json, mutates the mps pressure schemes (CMPS,
+HS, HL, ECS, the mixed source, GC) and the dry-wall rule of mps and isph; its quick suite is
+the Catch2 test spec in QUICK_SUITES (the schemes', loads' and isph surface tests, run by the
+test binary itself), its report docs/data/mutation_report_pressure_schemes.csv:
+
+    tools/mutation_test.py --list tests/mutations/pressure_schemes.json [--check]
+
 Exit status: 0 when every mutation run was killed, 1 when one survived, 2 on bad input.
 """
 import argparse
 import csv
+import html
 import json
 import os
 import re
@@ -33,6 +41,8 @@ from pathlib import Path
 ROOT = Path(__file__).resolve().parent.parent
 MUTATIONS = ROOT / "tests" / "mutations" / "mps_spec.json"
 REPORT = ROOT / "docs" / "data" / "mutation_report.csv"
+# The quick suite of each list other than the spec's: a Catch2 test spec for the test binary.
+QUICK_SUITES = {"pressure_schemes.json": "[schemes],[loads],[surface]"}
 REQUIRED_KEYS = ("id", "spec", "item", "file", "old", "new")
 CTEST_LABEL = "spec"
 TEST_TIMEOUT_SECONDS = 120  # per test; a mutation that makes a test hang is killed by the timeout
@@ -130,7 +140,25 @@ def run_quick_suite(build_dir, jobs):
     return result.returncode == 0, failed, int(total.group(1)) if total else 0
 
 
-def run_one(mutation, build_dir, jobs):
+def run_catch_suite(build_dir, test_spec):
+    """Runs the test binary on `test_spec` (one thread, JUnit report); returns (all passed,
+    failed test names, count run)."""
+    report = Path(build_dir) / "Testing" / "mutation_catch_report.xml"
+    report.parent.mkdir(parents=True, exist_ok=True)
+    command = [str(Path(build_dir) / "tests" / "mps_lab_tests"), test_spec, "-r", "junit", "-o", str(report)]
+    environment = dict(os.environ, OMP_NUM_THREADS="1")
+    try:
+        result = subprocess.run(command, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True, env=environment,
+                                timeout=10 * TEST_TIMEOUT_SECONDS)
+    except subprocess.TimeoutExpired:
+        return False, ["timeout"], 1
+    cases = re.findall(r'<testcase [^>]*name="([^"]*)"[^>]*?(/>|>.*?</testcase>)',
+                       report.read_text(encoding="utf-8") if report.is_file() else "", re.S)
+    failed = [html.unescape(name) for name, body in cases if "<failure" in body or "<error" in body]
+    return result.returncode == 0, failed, len(cases)
+
+
+def run_one(mutation, build_dir, jobs, catch_spec=None):
     """Applies, builds, tests and restores one mutation; returns its report row."""
     start = time.monotonic()
     with AppliedMutation(mutation):
@@ -138,7 +166,8 @@ def run_one(mutation, build_dir, jobs):
         if not built:
             killers = ["build"]
         else:
-            passed, killers, count = run_quick_suite(build_dir, jobs)
+            passed, killers, count = (run_catch_suite(build_dir, catch_spec) if catch_spec
+                                      else run_quick_suite(build_dir, jobs))
             if count == 0:
                 raise RuntimeError("the quick suite ran no test: is the build folder configured with tests?")
             if not passed and not killers:
@@ -174,10 +203,21 @@ def main():
     parser.add_argument("--check", action="store_true", help="only check that every `old` occurs exactly once")
     parser.add_argument("--build-dir", default=str(ROOT / "build"), help="configured CMake build folder (default build/)")
     parser.add_argument("--jobs", type=int, default=2, help="parallel build and ctest jobs (default 2)")
-    parser.add_argument("--report", default=str(REPORT), help="CSV report (default docs/data/mutation_report.csv)")
+    parser.add_argument("--list", default=str(MUTATIONS), help="mutation list (default tests/mutations/mps_spec.json)")
+    parser.add_argument("--report", help="CSV report (default docs/data/mutation_report.csv for the spec's list, "
+                        "docs/data/mutation_report_<list name>.csv for another)")
     args = parser.parse_args()
 
-    all_mutations = mutations = load_mutations(MUTATIONS)
+    mutation_list = Path(args.list)
+    catch_spec = None
+    if mutation_list.resolve() != MUTATIONS:
+        if mutation_list.name not in QUICK_SUITES:
+            sys.exit(f"--list {mutation_list}: no quick suite for it (expected one of {', '.join(QUICK_SUITES)})")
+        catch_spec = QUICK_SUITES[mutation_list.name]
+    if args.report is None:
+        args.report = str(REPORT if catch_spec is None else
+                          REPORT.with_name(f"mutation_report_{mutation_list.stem}.csv"))
+    all_mutations = mutations = load_mutations(mutation_list)
     problems = check(mutations)
     if args.check or problems:
         for problem in problems:
@@ -187,7 +227,7 @@ def main():
     if args.only:
         unknown = sorted(set(args.only) - {m["id"] for m in mutations})
         if unknown:
-            sys.exit(f"--only: no mutation called {', '.join(unknown)} in {MUTATIONS}")
+            sys.exit(f"--only: no mutation called {', '.join(unknown)} in {mutation_list}")
         mutations = [m for m in mutations if m["id"] in args.only]
     build_dir = Path(args.build_dir)
     if not (build_dir / "CMakeCache.txt").is_file():
@@ -198,7 +238,7 @@ def main():
     begin = time.monotonic()
     try:
         for number, mutation in enumerate(mutations, 1):
-            row = run_one(mutation, build_dir, args.jobs)
+            row = run_one(mutation, build_dir, args.jobs, catch_spec)
             rows.append(row)
             print(f"[{number}/{len(mutations)}] {row['id']}: {row['result']} ({row['seconds']} s) {row['killing_tests']}",
                   flush=True)
