@@ -16,6 +16,7 @@
 #include "core/base/particles.hpp"
 #include "core/io/scene.hpp"
 #include "core/run/method.hpp"
+#include "core/walls/wall_samples.hpp"
 #include "core/walls/wall_treatment.hpp"
 
 namespace mps_lab::testing {
@@ -152,6 +153,31 @@ inline Vec2 fluid_centroid(const ParticleSet& particles) {
     ++count;
   }
   return sum / static_cast<double>(count);
+}
+
+// Two fluid particles for hand-computed operator sums: A at the origin and B at (spacing, 0), with
+// pressures p_a and p_b (Pa).
+inline ParticleSet fluid_pair(double spacing, double p_a, double p_b) {
+  ParticleSet particles;
+  particles.add(Vec2(0.0, 0.0), Vec2::Zero(), ParticleType::Fluid);
+  particles.add(Vec2(spacing, 0.0), Vec2::Zero(), ParticleType::Fluid);
+  particles.pressure = {p_a, p_b};
+  return particles;
+}
+
+// Wall samples of the first of two particles (fluid_pair) at `positions`: fixed tank points of
+// volume 1 whose source is that particle; the second has none.
+inline WallSampleList samples_of_first(const std::vector<Vec2>& positions) {
+  WallSampleList samples;
+  const auto count = static_cast<std::uint32_t>(positions.size());
+  samples.offsets = {0, count, count};
+  for (const Vec2& position : positions) {
+    WallSample wall;
+    wall.position = position;
+    wall.source = 0;
+    samples.samples.push_back(wall);
+  }
+  return samples;
 }
 
 // Highest fluid particle centre, m.

@@ -194,18 +194,8 @@ TEST_CASE("mps dry wall points: dry wall samples drop out of P_min, the gradient
   const mps::OperatorRadius radius = mps::make_operator_radius(l0, 2.1 * l0, 0.01 * l0);
   const Vec2 g(0.0, -kGravity);
   const double mass = kDensity * l0 * l0;
-  ParticleSet p;
-  p.add(Vec2(0.0, 0.0), Vec2::Zero(), ParticleType::Fluid);
-  p.add(Vec2(l0, 0.0), Vec2::Zero(), ParticleType::Fluid);
-  p.pressure = {100.0, 200.0};
-  WallSampleList samples;
-  samples.offsets = {0, 2, 2};
-  for (const Vec2& x : {Vec2(0.0, l0), Vec2(0.0, 2.0 * l0)}) {
-    WallSample wall;
-    wall.position = x;
-    wall.source = 0;
-    samples.samples.push_back(wall);
-  }
+  const ParticleSet p = fluid_pair(l0, 100.0, 200.0);
+  const WallSampleList samples = samples_of_first({Vec2(0.0, l0), Vec2(0.0, 2.0 * l0)});
   const NeighbourList list = find_neighbours(p.position, p.type, radius.re);
   const std::vector<char> carries(2, 1);
   const DryWallRule excluded{true, g, kDensity}, extended{false, g, kDensity};

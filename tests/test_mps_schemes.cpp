@@ -92,16 +92,8 @@ TEST_CASE("CMPS gradient with a wall sample: the hand sum of its pair", "[mps][s
   // Phat_A = min(100, 50, 345.25) = 50 = Phat_B. A's sum: pair AB (100 + 50) - (50 + 50) = 50
   // over l0^2 along (l0, 0), and the sample's (P_A + p_w) - 2 Phat_A = 345.25 over l0^2 along
   // (0, -l0), both with w(l0) = 1.1. The spec's sample term (p_w - Phat_A) = 295.25 differs.
-  ParticleSet p;
-  p.add(Vec2(0.0, 0.0), Vec2::Zero(), ParticleType::Fluid);
-  p.add(Vec2(kL0, 0.0), Vec2::Zero(), ParticleType::Fluid);
-  p.pressure = {100.0, 50.0};
-  WallSampleList samples;
-  samples.offsets = {0, 1, 1};
-  WallSample wall;
-  wall.position = Vec2(0.0, -kL0);
-  wall.source = 0;
-  samples.samples.push_back(wall);
+  const ParticleSet p = fluid_pair(kL0, 100.0, 50.0);
+  const WallSampleList samples = samples_of_first({Vec2(0.0, -kL0)});
   const OperatorRadius radius = radius_21();
   const NeighbourList list = find_neighbours(p.position, p.type, radius.re);
   const std::vector<char> carries(2, 1);
