@@ -148,6 +148,8 @@ def run_catch_suite(build_dir, test_spec):
     failed test names, count run)."""
     report = Path(build_dir) / "Testing" / "mutation_catch_report.xml"
     report.parent.mkdir(parents=True, exist_ok=True)
+    if report.exists():
+        report.unlink()  # a crashed binary must not leave the last mutation's report to be read
     command = [str(Path(build_dir) / "tests" / "mps_lab_tests"), test_spec, "-r", "junit", "-o", str(report)]
     environment = dict(os.environ, OMP_NUM_THREADS="1")
     try:
