@@ -171,6 +171,39 @@ TEST_CASE("wall pressure: a dry face reads exactly 0", "[unit][sensor]") {
   CHECK(extrapolated_wall_pressure(particles, Vec2(0.5, 0.17), Vec2(0.0, -kG), kRho, kernel) == 0.0);
 }
 
+TEST_CASE("wall pressure: the faces read in one pass equal the extrapolation point by point", "[unit][sensor]") {
+  // SensorReadout visits each fluid particle once and adds it to every face point in reach; each
+  // point's sums still run over the fluid in index order, so every face must read the mean of
+  // extrapolated_wall_pressure at its points to the bit. A splashing dam break (t = 0.4 s, the
+  // surge on the far wall) with faces of 4 and 6 points, one at a corner and one dry; read together
+  // and each alone.
+  const Scene scene = load("dambreak.json", {"time.end_time=0.4",
+                                             "diagnostics.pressure_sensors=["
+                                             "{\"name\": \"far\", \"position\": [1.0, 0.0375]},"
+                                             "{\"name\": \"corner\", \"position\": [0.97, 0.0], \"diameter\": 0.04},"
+                                             "{\"name\": \"dry\", \"position\": [0.0, 0.55]}]"});
+  const MethodInfo* method = registries().methods.find(scene.method);
+  REQUIRE(method != nullptr);
+  Simulation simulation(scene, *method);
+  simulation.run_to(0.4);
+  const ParticleSet& particles = simulation.particles();
+  const std::vector<SensorFace>& faces = simulation.pressure_sensors().faces();
+  const std::vector<double> readings = read_pressure_sensors(particles, scene, faces);
+  const SphKernel kernel = wall_pressure_kernel(scene.particle_spacing);
+  REQUIRE(readings.size() == 3);
+  CHECK(faces[1].points.size() == 6);
+  for (std::size_t k = 0; k < faces.size(); ++k) {
+    double sum = 0.0;
+    for (const Vec2& point : faces[k].points)
+      sum += extrapolated_wall_pressure(particles, point, scene.physics.gravity, scene.physics.density, kernel);
+    CHECK(readings[k] == sum / static_cast<double>(faces[k].points.size()));
+    // Alone, the face's points span a box a support wide at most: the pass's cut at the box.
+    CHECK(read_pressure_sensors(particles, scene, {faces[k]}).front() == readings[k]);
+  }
+  CHECK(readings[0] > 0.0);  // wet: the surge is on the far wall
+  CHECK(readings[2] == 0.0);
+}
+
 TEST_CASE("wall pressure: sensor keys - faces on the wall surface and one-line errors", "[unit][sensor][input]") {
   const Scene scene = load("hydrostatic.json", {tank_sensors()});
   const std::vector<SensorFace> faces = sensor_faces(scene);

@@ -64,34 +64,48 @@ std::vector<SensorFace> sensor_faces(const Scene& scene) {
   return faces;
 }
 
+SensorReadout::SensorReadout(const Scene& scene, std::vector<SensorFace> faces)
+    : faces_(std::move(faces)),
+      kernel_(wall_pressure_kernel(scene.particle_spacing)),
+      density_(scene.physics.density),
+      gravity_(scene.physics.gravity) {
+  std::vector<Vec2> points;
+  for (const SensorFace& face : faces_) points.insert(points.end(), face.points.begin(), face.points.end());
+  points_.build(std::move(points), kernel_.support());
+}
+
 // The face's reading: the mean of its points' extrapolated pressures (dry points count 0).
-std::vector<double> read_pressure_sensors(const ParticleSet& particles, const Scene& scene,
-                                          const std::vector<SensorFace>& faces, const Vec2& wall_acceleration) {
-  const SphKernel kernel = wall_pressure_kernel(scene.particle_spacing);
-  const Vec2 body_force = scene.physics.gravity - wall_acceleration;  // g - a_w, m/s^2
+std::vector<double> SensorReadout::read(const ParticleSet& particles, const Vec2& wall_acceleration) const {
+  std::vector<ExtrapolatedPressure> sums;
+  sum_extrapolated_pressures(
+      particles, points_, kernel_, [](std::uint32_t, const Vec2&) { return true; }, sums);
+  const Vec2 body_force = gravity_ - wall_acceleration;  // g - a_w, m/s^2
   std::vector<double> readings;
-  readings.reserve(faces.size());
-  for (const SensorFace& face : faces) {
+  readings.reserve(faces_.size());
+  std::size_t point = 0;
+  for (const SensorFace& face : faces_) {
     double sum = 0.0;
-    for (const Vec2& point : face.points) {
-      sum += extrapolated_wall_pressure(particles, point, body_force, scene.physics.density, kernel);
-    }
+    for (std::size_t k = 0; k < face.points.size(); ++k) sum += sums[point++].value(density_, body_force);
     readings.push_back(sum / static_cast<double>(face.points.size()));
   }
   return readings;
 }
 
+std::vector<double> read_pressure_sensors(const ParticleSet& particles, const Scene& scene,
+                                          const std::vector<SensorFace>& faces, const Vec2& wall_acceleration) {
+  return SensorReadout(scene, faces).read(particles, wall_acceleration);
+}
+
 PressureSensorRecord::PressureSensorRecord(const Scene& scene)
-    : scene_(scene),
-      faces_(sensor_faces(scene)),
-      weighted_sum_(faces_.size(), 0.0),
-      peak_(faces_.size(), -std::numeric_limits<double>::infinity()) {}
+    : readout_(scene, sensor_faces(scene)),
+      weighted_sum_(count(), 0.0),
+      peak_(count(), -std::numeric_limits<double>::infinity()) {}
 
 void PressureSensorRecord::sample(const ParticleSet& particles, double dt) {
-  if (faces_.empty()) return;
+  if (count() == 0) return;
   // Today's walls are fixed (a_w = 0).
-  const std::vector<double> readings = read_pressure_sensors(particles, scene_, faces_);
-  for (std::size_t k = 0; k < faces_.size(); ++k) {
+  const std::vector<double> readings = readout_.read(particles);
+  for (std::size_t k = 0; k < count(); ++k) {
     weighted_sum_[k] += readings[k] * dt;
     peak_[k] = std::max(peak_[k], readings[k]);
   }
@@ -100,10 +114,9 @@ void PressureSensorRecord::sample(const ParticleSet& particles, double dt) {
 
 std::vector<double> PressureSensorRecord::take_row(const ParticleSet& particles) {
   std::vector<double> row;
-  row.reserve(2 * faces_.size());
-  const std::vector<double> now =
-      duration_ > 0.0 ? std::vector<double>() : read_pressure_sensors(particles, scene_, faces_);
-  for (std::size_t k = 0; k < faces_.size(); ++k) {
+  row.reserve(2 * count());
+  const std::vector<double> now = duration_ > 0.0 ? std::vector<double>() : readout_.read(particles);
+  for (std::size_t k = 0; k < count(); ++k) {
     row.push_back(duration_ > 0.0 ? weighted_sum_[k] / duration_ : now[k]);
     row.push_back(duration_ > 0.0 ? peak_[k] : now[k]);
   }
@@ -123,9 +136,9 @@ void PressureSensorRecord::restore(CheckpointReader& in) {
   weighted_sum_ = in.read_doubles();
   peak_ = in.read_doubles();
   duration_ = in.read_double();
-  if (weighted_sum_.size() != faces_.size() || peak_.size() != faces_.size()) {
+  if (weighted_sum_.size() != count() || peak_.size() != count()) {
     in.fail("pressure sensors: " + std::to_string(weighted_sum_.size()) + " in the checkpoint, the scene has " +
-            std::to_string(faces_.size()));
+            std::to_string(count()));
   }
 }
 

@@ -26,6 +26,7 @@
 #include "core/base/types.hpp"
 #include "core/io/scene.hpp"
 #include "core/kernels/sph_kernels.hpp"
+#include "core/search/point_grid.hpp"
 
 namespace mps_lab {
 
@@ -52,8 +53,27 @@ struct SensorFace {
 // (core/io/scene.cpp, check_pressure_sensors).
 std::vector<SensorFace> sensor_faces(const Scene& scene);
 
-// Every sensor's face-averaged reading now (Pa), the walls accelerating at `wall_acceleration`
-// (m/s^2; zero for today's fixed walls; a moving wall passes its own).
+// Sensor faces with all their points in one grid, so that every face is read in one pass over
+// the fluid (core/walls/wall_pressure_extrapolation.hpp): the same bits as
+// extrapolated_wall_pressure at each point, without a pass over the particles per point.
+class SensorReadout {
+ public:
+  SensorReadout(const Scene& scene, std::vector<SensorFace> faces);
+
+  const std::vector<SensorFace>& faces() const { return faces_; }
+  // Every face's reading now (Pa): the mean of its points', the walls accelerating at
+  // `wall_acceleration` (m/s^2; zero for today's fixed walls; a moving wall passes its own).
+  std::vector<double> read(const ParticleSet& particles, const Vec2& wall_acceleration = Vec2::Zero()) const;
+
+ private:
+  std::vector<SensorFace> faces_;
+  PointGrid points_;  // every face's points, face after face
+  SphKernel kernel_;
+  double density_;  // kg/m^3
+  Vec2 gravity_;    // m/s^2
+};
+
+// Every sensor's face-averaged reading now (Pa): SensorReadout(scene, faces).read(...).
 std::vector<double> read_pressure_sensors(const ParticleSet& particles, const Scene& scene,
                                           const std::vector<SensorFace>& faces,
                                           const Vec2& wall_acceleration = Vec2::Zero());
@@ -63,8 +83,8 @@ class PressureSensorRecord {
  public:
   explicit PressureSensorRecord(const Scene& scene);
 
-  std::size_t count() const { return faces_.size(); }
-  const std::vector<SensorFace>& faces() const { return faces_; }
+  std::size_t count() const { return readout_.faces().size(); }
+  const std::vector<SensorFace>& faces() const { return readout_.faces(); }
   // Reads every sensor after a step of `dt` seconds and adds it to the interval.
   void sample(const ParticleSet& particles, double dt);
   // The row's values, (mean, peak) per sensor in scene order, and a new interval. An interval
@@ -75,8 +95,7 @@ class PressureSensorRecord {
   void restore(CheckpointReader& in);
 
  private:
-  const Scene& scene_;
-  std::vector<SensorFace> faces_;
+  SensorReadout readout_;
   std::vector<double> weighted_sum_;  // Pa s: sum of reading x dt over the interval
   std::vector<double> peak_;          // Pa
   double duration_ = 0.0;             // s

@@ -20,13 +20,13 @@ class PointGrid {
     cell_ = cell_size;
     if (points_.empty()) return;
     low_ = points_.front();
-    Vec2 high = low_;
+    high_ = low_;
     for (const Vec2& p : points_) {
       low_ = low_.cwiseMin(p);
-      high = high.cwiseMax(p);
+      high_ = high_.cwiseMax(p);
     }
-    nx_ = static_cast<long long>((high.x() - low_.x()) / cell_) + 1;
-    ny_ = static_cast<long long>((high.y() - low_.y()) / cell_) + 1;
+    nx_ = static_cast<long long>((high_.x() - low_.x()) / cell_) + 1;
+    ny_ = static_cast<long long>((high_.y() - low_.y()) / cell_) + 1;
     start_.assign(static_cast<std::size_t>(nx_ * ny_ + 1), 0);
     for (const Vec2& p : points_) ++start_[static_cast<std::size_t>(cell_of(p)) + 1];
     for (std::size_t c = 1; c < start_.size(); ++c) start_[c] += start_[c - 1];
@@ -37,6 +37,13 @@ class PointGrid {
   }
 
   const std::vector<Vec2>& points() const { return points_; }
+
+  // Whether x lies within `radius` of the points' bounding box: the cheap test before a query
+  // from a point that is far from all of them.
+  bool may_reach(const Vec2& x, double radius) const {
+    if (points_.empty()) return false;
+    return (x.array() >= low_.array() - radius).all() && (x.array() <= high_.array() + radius).all();
+  }
 
   // Calls f(k) for every point k with |points[k] - x| < radius, in a fixed order.
   template <class Visit>
@@ -65,6 +72,7 @@ class PointGrid {
   std::vector<Vec2> points_;
   double cell_ = 1.0;
   Vec2 low_ = Vec2::Zero();
+  Vec2 high_ = Vec2::Zero();
   long long nx_ = 0, ny_ = 0;
   std::vector<std::uint32_t> start_;
   std::vector<std::uint32_t> order_;

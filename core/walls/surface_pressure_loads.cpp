@@ -47,26 +47,12 @@ void SurfacePressureLoads::place_points() {
 
 // Adami et al. (2012) eq. 27 at every point from the fluid in front of its face.
 void SurfacePressureLoads::read_pressures(const ParticleSet& particles) {
-  std::vector<ExtrapolatedPressure> sums(points_.size());
   if (points_.empty()) return;
-  // Only fluid within the support of the surface points' bounding box can reach one of them.
-  Vec2 low = points_.front().position, high = low;
-  for (const Point& point : points_) {
-    low = low.cwiseMin(point.position);
-    high = high.cwiseMax(point.position);
-  }
-  low -= Vec2::Constant(kernel_.support());
-  high += Vec2::Constant(kernel_.support());
-  for (std::size_t f = 0; f < particles.size(); ++f) {
-    if (particles.type[f] != ParticleType::Fluid) continue;
-    const Vec2& x_f = particles.position[f];
-    if ((x_f.array() < low.array()).any() || (x_f.array() > high.array()).any()) continue;
-    grid_.for_each_within(x_f, kernel_.support(), [&](std::uint32_t e) {
-      const Vec2 r_wf = points_[e].position - x_f;
-      if (r_wf.dot(points_[e].normal) >= 0.0) return;  // behind the face
-      sums[e].add(particles.pressure[f], r_wf, kernel_.value(r_wf.norm()));
-    });
-  }
+  std::vector<ExtrapolatedPressure> sums;
+  sum_extrapolated_pressures(
+      particles, grid_, kernel_,
+      [&](std::uint32_t e, const Vec2& r_wf) { return r_wf.dot(points_[e].normal) < 0.0; },  // not behind the face
+      sums);
   const auto& segments = geometry_.segments();
   for (std::size_t e = 0; e < points_.size(); ++e) {
     const Vec2 body_force = gravity_ - geometry_.wall_acceleration(segments[points_[e].segment], points_[e].position);

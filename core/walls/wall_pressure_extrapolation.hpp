@@ -7,7 +7,13 @@
 //   p_w = [ sum_f p_f W_wf + (g - a_w) . sum_f rho_f r_wf W_wf ] / sum_f W_wf,   r_wf = x_w - x_f,
 // over the fluid particles f within the kernel's support of x_w (rho_f the reference density: the
 // methods here are incompressible), a_w the wall's acceleration. No fluid in reach: dry, 0.
+#include <cstdint>
+#include <vector>
+
+#include "core/base/particles.hpp"
 #include "core/base/types.hpp"
+#include "core/kernels/sph_kernels.hpp"
+#include "core/search/point_grid.hpp"
 
 namespace mps_lab {
 
@@ -29,5 +35,27 @@ struct ExtrapolatedPressure {
     return (weighted_pressure + density * body_force.dot(weighted_offset)) / weights;
   }
 };
+
+// Eq. 27's sums at every point of `points` (a grid whose cells are at least the kernel's support)
+// from one pass over the fluid particles. Each point's sums run over the fluid in index order,
+// as a loop over the particles for that point alone would: the same bits, for the cost of one
+// pass whatever the number of points. `counts(e, r_wf)`: whether the fluid particle at
+// r_wf = x_e - x_f is seen by point e (a face's front, for example).
+template <class Counts>
+void sum_extrapolated_pressures(const ParticleSet& particles, const PointGrid& points, const SphKernel& kernel,
+                                Counts&& counts, std::vector<ExtrapolatedPressure>& sums) {
+  sums.assign(points.points().size(), ExtrapolatedPressure{});
+  const double support = kernel.support();
+  for (std::size_t f = 0; f < particles.size(); ++f) {
+    if (particles.type[f] != ParticleType::Fluid) continue;
+    const Vec2& x_f = particles.position[f];
+    if (!points.may_reach(x_f, support)) continue;
+    points.for_each_within(x_f, support, [&](std::uint32_t e) {
+      const Vec2 r_wf = points.points()[e] - x_f;
+      if (!counts(e, r_wf)) return;
+      sums[e].add(particles.pressure[f], r_wf, kernel.value(r_wf.norm()));
+    });
+  }
+}
 
 }  // namespace mps_lab
