@@ -150,19 +150,6 @@ TEST_CASE("obstacle surface: the rotation of a body from its wall particles", "[
   CHECK(rotation[1] == Vec2(1.0, 0.0));
 }
 
-namespace {
-
-// The mean loads over t = 1-2 s of mps on scenes/hydrostatic.json with kStillWaterObstacles.
-MeanLoads still_water(const std::vector<std::string>& settings) {
-  std::vector<std::string> overrides = {kStillWaterObstacles, "method=mps"};
-  overrides.insert(overrides.end(), settings.begin(), settings.end());
-  const Scene scene = load("hydrostatic.json", overrides);  // the Simulation keeps a reference to it
-  Simulation run(scene, *registries().methods.find("mps"));
-  return mean_loads(run, 1.0, 2.0);
-}
-
-}  // namespace
-
 TEST_CASE("mps surface pressure load: still water - Archimedes rho g h^2 / 2 and the hydrostatic moment",
           "[mps][loads][hydrostatic]") {
   // Analytic: box rho g A = 91.97 N/m up, plate rho g h^2 / 2 = 370.9 N/m (+x: the water pushes
@@ -170,43 +157,52 @@ TEST_CASE("mps surface pressure load: still water - Archimedes rho g h^2 / 2 and
   const double buoyancy = kDensity * kGravity * 0.125 * 0.075;
   const double thrust = 0.5 * kDensity * kGravity * kDepth * kDepth;
   const double moment = (0.2625 - (kFreeSurface - 2.0 * kDepth / 3.0)) * thrust;
-  // Measured (mean over t = 1-2 s, ratios to the analytic loads), obstacle_load wall_pressure (the
-  // wall particles' pressure): with the spec's gradient the box 0.850, the plate 0.937, its moment
-  // 0.924; with CMPS 0.710, 1.174, 1.151 (the pair reaction: spec 0.114 and 0.427, CMPS 0.727 and
-  // 0.980, tests/test_mps_loads.cpp). The instantaneous wall pressures are noisy (0 to 5 times the
-  // hydrostatic one on the box's particles at t = 1.5 s, some bottom ones at 0), so the box carries
-  // less than its buoyancy; the plate's long face averages better. fluid_pressure (the default: the
-  // fluid's pressure carried to the surface, core/walls/surface_pressure_loads.hpp): 1.038, 0.995,
-  // 1.000 with the spec's gradient and no side force (8e-5 of the buoyancy, against -7.3 %); with
-  // CMPS 2.21, 1.45, 1.53, its known over-pressure in still water (docs/methods/mps.md: its wall
-  // sensors read up to 1.6 rho g h). Margin 0.03 of the analytic load: a change of the load term by
-  // more than 3 % fails (the runs are deterministic); the spec's loads carrying at least 0.8 of
-  // Archimedes and 0.9 of the thrust, several times the pair reaction, is what floats a body.
+  // Measured: the mean over t = 1-2 s, ratios to the analytic loads, mean (standard deviation) over
+  // 16 realisations of the still water (still_water_realisations, tests/still_water_obstacles.hpp).
+  // fluid_pressure (the default: the fluid's pressure carried to the surface, core/walls/
+  // surface_pressure_loads.hpp) with the spec's gradient: box 1.015 (0.077), plate 0.986 (0.019),
+  // moment 0.995 (0.020), side force on the box 0.012 (0.047) of its buoyancy; with CMPS 2.185,
+  // 1.466, 1.566, its known over-pressure in still water (docs/methods/mps.md: its wall sensors read
+  // up to 1.6 rho g h). wall_pressure (the wall particles' pressure): spec 0.789 (0.115), 0.942
+  // (0.029), 0.940 (0.036); CMPS 0.637 (0.088), 1.332 (0.106), 1.369 (0.143). The instantaneous
+  // wall pressures are noisy (0 to 5 times the hydrostatic one on the box's particles), so the box
+  // carries less than its buoyancy; the plate's long face averages better. One realisation alone
+  // ranges 0.62-1.04 for the spec's box with wall_pressure. Asserted: the mean of 4 realisations
+  // within 4 standard errors of the 16's mean, and, for the spec's gradient (what floats a body in
+  // mps), at least half the buoyancy and 85 % of the thrust (the 16's means less 4 standard
+  // errors: 0.56 / 0.86 and 0.88 / 0.95), several times the pair reaction's 0.08 and 0.43
+  // (tests/test_mps_loads.cpp).
+  constexpr int kRealisations = 4;
   const struct {
     const char* scheme;
     const char* load;
-    double box, plate, torque;
-  } cases[] = {{"spec", "wall_pressure", 0.8500, 0.9372, 0.9243},
-               {"cmps", "wall_pressure", 0.7097, 1.1737, 1.1512},
-               {"spec", "fluid_pressure", 1.0377, 0.9947, 1.0002},
-               {"cmps", "fluid_pressure", 2.2138, 1.4455, 1.5289}};
+    RealisationStatistics box, plate, torque;
+  } cases[] = {{"spec", "wall_pressure", {0.7892, 0.1152}, {0.9423, 0.0292}, {0.9404, 0.0357}},
+               {"cmps", "wall_pressure", {0.6365, 0.0884}, {1.3322, 0.1060}, {1.3691, 0.1430}},
+               {"spec", "fluid_pressure", {1.0149, 0.0770}, {0.9859, 0.0185}, {0.9951, 0.0200}},
+               {"cmps", "fluid_pressure", {2.1850, 0.0617}, {1.4656, 0.0249}, {1.5660, 0.0310}}};
+  const RealisationStatistics side_force{0.0, 0.0475};  // box F_x / buoyancy, spec fluid_pressure: 0 in statics
   for (const auto& expected : cases) {
-    const MeanLoads mean = still_water({std::string("methods.mps.pressure_gradient=\"") + expected.scheme + "\"",
-                                        std::string("methods.mps.obstacle_load=\"") + expected.load + "\""});
+    const MeanLoads mean =
+        still_water_realisations("mps",
+                                 {std::string("methods.mps.pressure_gradient=\"") + expected.scheme + "\"",
+                                  std::string("methods.mps.obstacle_load=\"") + expected.load + "\""},
+                                 kRealisations);
     INFO("mps " << expected.scheme << " " << expected.load << ": box " << mean.box_force.transpose() << " N/m ("
                 << mean.box_force.y() / buoyancy << "), torque " << mean.box_torque << " N; plate "
                 << mean.plate_force.transpose() << " N/m (" << mean.plate_force.x() / thrust << "), torque "
                 << mean.plate_torque << " N (" << mean.plate_torque / moment << ")");
-    CHECK(mean.box_force.y() / buoyancy == Approx(expected.box).margin(0.03));
-    CHECK(mean.plate_force.x() / thrust == Approx(expected.plate).margin(0.03));
-    CHECK(mean.plate_torque / moment == Approx(expected.torque).margin(0.03));
+    CHECK(mean.box_force.y() / buoyancy ==
+          Approx(expected.box.mean).margin(realisation_tolerance(expected.box, kRealisations)));
+    CHECK(mean.plate_force.x() / thrust ==
+          Approx(expected.plate.mean).margin(realisation_tolerance(expected.plate, kRealisations)));
+    CHECK(mean.plate_torque / moment ==
+          Approx(expected.torque.mean).margin(realisation_tolerance(expected.torque, kRealisations)));
     if (std::string(expected.scheme) != "spec") continue;  // what floats a body in mps
-    CHECK(mean.box_force.y() > 0.8 * buoyancy);
-    CHECK(mean.plate_force.x() > 0.9 * thrust);
-    if (std::string(expected.load) != "fluid_pressure") continue;  // the default: within 4 % of both, no side force
-    CHECK(std::abs(mean.box_force.y() / buoyancy - 1.0) < 0.04);
-    CHECK(std::abs(mean.plate_force.x() / thrust - 1.0) < 0.04);
-    CHECK(std::abs(mean.box_force.x()) < 0.01 * buoyancy);
+    CHECK(mean.box_force.y() > 0.5 * buoyancy);
+    CHECK(mean.plate_force.x() > 0.85 * thrust);
+    if (std::string(expected.load) != "fluid_pressure") continue;  // the default: no side force
+    CHECK(std::abs(mean.box_force.x()) / buoyancy < realisation_tolerance(side_force, kRealisations));
   }
 }
 
