@@ -51,10 +51,11 @@ inline MeanLoads mean_loads(Simulation& run, double from, double to) {
   return mean;
 }
 
-// MPS's still water is noisy (pressure spikes of several rho g h) and chaotic: a change at the
-// level of rounding, here gravity scaled by 1 + k 1e-10, draws another realisation of the same
-// flow, and a load averaged over t = 1-2 s moves between realisations by up to 2 standard
-// deviations of 0.01-0.12 of its analytic value (16 realisations, docs/walls.md "Still water").
+// Where still water never comes to rest (MPS's pressure spikes of several rho g h; mirror particles
+// and the distance function with several methods) the run is chaotic: a change at the level of
+// rounding, here gravity scaled by 1 + k 1e-10, draws another realisation of the same flow, and a
+// load averaged over t = 1-2 s has a standard deviation over realisations of up to 0.12 of its
+// analytic value (16 realisations, docs/walls.md "Still water"; 0 where the water comes to rest).
 // One realisation is what a compiler, FMA contraction or a reordered sum also changes, so a test
 // of such a load asserts the mean of `count` realisations (k = 0 .. count - 1) against the mean of
 // 16, within 4 standard errors of a `count`-member mean (realisation_tolerance).
