@@ -209,7 +209,12 @@ TEST_CASE("obstacle loads: still water on a submerged box and a plate - Archimed
         ++runs;
         continue;
       }
-      const MeanLoads mean = still_water_realisations(method->name, overrides, kRealisations);
+      // Where the 16 realisations agreed (every standard deviation 0: the water comes to rest), one
+      // stands for them all.
+      const bool chaotic = expected->box.standard_deviation > 0.0 || expected->plate.standard_deviation > 0.0 ||
+                           expected->torque.standard_deviation > 0.0 || expected->side_sd > 0.0 ||
+                           expected->turn_sd > 0.0;
+      const MeanLoads mean = still_water_realisations(method->name, overrides, chaotic ? kRealisations : 1);
       INFO(method->name << " x " << model->name << ": box " << mean.box_force.transpose() << " N/m (buoyancy "
                         << buoyancy << "), torque " << mean.box_torque << " N; plate " << mean.plate_force.transpose()
                         << " N/m (rho g h^2/2 " << thrust << "), torque " << mean.plate_torque << " N (" << moment
