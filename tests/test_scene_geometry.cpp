@@ -1,4 +1,5 @@
 // Scene loading and the lattice of spec §4.
+#include <algorithm>
 #include <set>
 
 #include <catch2/catch.hpp>
@@ -67,6 +68,40 @@ TEST_CASE("other spacings keep the lattice rule", "[scene][geometry]") {
   // A spacing that does not divide the tank is refused, naming the key.
   CHECK_THROWS_WITH(build_particles(load("dambreak.json", {"particle_spacing=0.03"})),
                     Catch::Contains("particle_spacing") && Catch::Contains("whole number"));
+}
+
+TEST_CASE("still water's pressure per fluid block: rho0 g (top particle + offset - y) by hand", "[scene][geometry]") {
+  // Two blocks in the dam-break tank: a column i = 1..7, j = 1..11 (top particle centre 0.275 m)
+  // and a pool i = 25..39, j = 1..3 (top 0.075 m); each is hydrostatic below its own top.
+  const Scene scene = load("dambreak.json", {"fluid_blocks=[{\"min\":[0.0,0.0],\"max\":[0.2,0.3]},"
+                                             "{\"min\":[0.6,0.0],\"max\":[1.0,0.1]}]"});
+  const ParticleSet particles = build_particles(scene);
+  const double offset = 0.0125;  // m, l0/2: the water surface above the top particle centres
+  const std::vector<double> pressure = hydrostatic_block_pressure(scene, particles, offset);
+  REQUIRE(pressure.size() == particles.size());
+  std::size_t checked = 0;
+  for (std::size_t i = 0; i < particles.size(); ++i) {
+    const Vec2& x = particles.position[i];
+    if (particles.type[i] != ParticleType::Fluid) {
+      CHECK(pressure[i] == 0.0);  // walls start at 0 (each method gives them their own pressure)
+      continue;
+    }
+    const double top = x.x() < 0.5 ? 0.275 : 0.075;  // m
+    CHECK(pressure[i] == Approx(1000.0 * 9.81 * (top + offset - x.y())).epsilon(1e-12));
+    ++checked;
+  }
+  CHECK(checked == 7 * 11 + 15 * 3);
+  // The bed row of the column, by hand: 1000 * 9.81 * (0.2875 - 0.025) = 2575.125 Pa.
+  CHECK(*std::max_element(pressure.begin(), pressure.end()) == Approx(2575.125).epsilon(1e-12));
+  // With no offset the top row of each block carries p = 0: the centres are the surface.
+  const std::vector<double> at_centres = hydrostatic_block_pressure(scene, particles, 0.0);
+  for (std::size_t i = 0; i < particles.size(); ++i) {
+    const double y = particles.position[i].y();
+    const bool top_row =
+        particles.type[i] == ParticleType::Fluid &&
+        (std::fabs(y - 0.275) < 1e-9 || (particles.position[i].x() > 0.5 && std::fabs(y - 0.075) < 1e-9));
+    if (top_row) CHECK(at_centres[i] == 0.0);
+  }
 }
 
 TEST_CASE("scene validation names the file and the key", "[scene][input]") {

@@ -275,4 +275,38 @@ std::size_t mark_escaped_as_ghosts(ParticleSet& particles, const Scene& scene) {
   return escaped;
 }
 
+namespace {
+
+// The index of the first fluid block holding x (bounds included), or -1.
+int block_holding(const Scene& scene, const Vec2& x) {
+  for (std::size_t b = 0; b < scene.fluid_blocks.size(); ++b) {
+    const Box& box = scene.fluid_blocks[b].region;
+    if (x.x() >= box.min.x() && x.x() <= box.max.x() && x.y() >= box.min.y() && x.y() <= box.max.y()) {
+      return static_cast<int>(b);
+    }
+  }
+  return -1;
+}
+
+}  // namespace
+
+std::vector<double> hydrostatic_block_pressure(const Scene& scene, const ParticleSet& particles,
+                                               double surface_offset) {
+  const double g = -scene.physics.gravity.y();  // m/s^2, > 0 downwards
+  std::vector<double> block_top(scene.fluid_blocks.size(), -1e300);
+  std::vector<int> block_of(particles.size(), -1);
+  for (std::size_t i = 0; i < particles.size(); ++i) {
+    if (particles.type[i] != ParticleType::Fluid) continue;
+    block_of[i] = block_holding(scene, particles.position[i]);
+    if (block_of[i] >= 0) block_top[block_of[i]] = std::max(block_top[block_of[i]], particles.position[i].y());
+  }
+  std::vector<double> pressure(particles.size(), 0.0);
+  for (std::size_t i = 0; i < particles.size(); ++i) {
+    if (block_of[i] < 0) continue;
+    const double surface = block_top[block_of[i]] + surface_offset;  // y_s, m
+    pressure[i] = std::max(0.0, scene.physics.density * g * (surface - particles.position[i].y()));
+  }
+  return pressure;
+}
+
 }  // namespace mps_lab

@@ -236,32 +236,14 @@ class WcsphMethod final : public Method {
   }
 
   // p = rho0 |g| (y_s - y) below the surface y_s of the particle's fluid block (its highest
-  // particle centre + l0/2), rho by the inverse Tait equation: still water starts in the
-  // equilibrium of its equation of state. Walls get Adami's pressure at the first evaluation.
+  // particle centre + l0/2; core/io/geometry.hpp), rho by the inverse Tait equation: still water
+  // starts in the equilibrium of its equation of state. Walls get Adami's pressure at the first
+  // evaluation.
   void hydrostatic_start(ParticleSet& particles) const {
     auto& density = particles.field("density");
-    const double l0 = scene_.particle_spacing;
-    const double g = -scene_.physics.gravity.y();  // m/s^2, > 0 downwards
-    std::vector<double> block_top(scene_.fluid_blocks.size(), -1e300);
-    std::vector<int> block_of(particles.size(), -1);
+    particles.pressure = hydrostatic_block_pressure(scene_, particles, 0.5 * scene_.particle_spacing);
     for (std::size_t i = 0; i < particles.size(); ++i) {
-      if (particles.type[i] != ParticleType::Fluid) continue;
-      for (std::size_t b = 0; b < scene_.fluid_blocks.size(); ++b) {
-        const Box& box = scene_.fluid_blocks[b].region;
-        const Vec2& x = particles.position[i];
-        if (x.x() < box.min.x() || x.x() > box.max.x() || x.y() < box.min.y() || x.y() > box.max.y()) continue;
-        block_of[i] = static_cast<int>(b);
-        block_top[b] = std::max(block_top[b], x.y());
-        break;
-      }
-    }
-    for (std::size_t i = 0; i < particles.size(); ++i) {
-      const bool fluid = particles.type[i] == ParticleType::Fluid;
-      const double surface = fluid && block_of[i] >= 0 ? block_top[block_of[i]] + 0.5 * l0 : 0.0;
-      particles.pressure[i] = fluid && block_of[i] >= 0
-                                  ? std::max(0.0, eos_.rest_density * g * (surface - particles.position[i].y()))
-                                  : 0.0;
-      density[i] = fluid ? eos_.density(particles.pressure[i]) : eos_.rest_density;
+      density[i] = particles.type[i] == ParticleType::Fluid ? eos_.density(particles.pressure[i]) : eos_.rest_density;
     }
   }
 
