@@ -11,7 +11,6 @@ namespace mps_lab {
 
 namespace {
 
-constexpr double kSupport = 2.4;         // l0: the extrapolation kernel's support
 constexpr double kSampleSpacing = 0.25;  // l0: the largest distance between a face's sample points
 
 // The wall segment a sensor lies on: the nearest one (the scene checked that the position is
@@ -23,10 +22,6 @@ const WallSegment& sensor_segment(const WallGeometry& geometry, const Vec2& posi
 }
 
 }  // namespace
-
-SphKernel wall_pressure_kernel(double particle_spacing) {
-  return SphKernel(SphKernelKind::CubicSpline, kSupport * particle_spacing);
-}
 
 // Adami, Hu & Adams (2012), eq. 27 (core/walls/wall_pressure_extrapolation.hpp).
 double extrapolated_wall_pressure(const ParticleSet& particles, const Vec2& wall_point, const Vec2& body_force,

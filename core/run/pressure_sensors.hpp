@@ -27,17 +27,15 @@
 #include "core/io/scene.hpp"
 #include "core/kernels/sph_kernels.hpp"
 #include "core/search/point_grid.hpp"
+#include "core/walls/wall_pressure_extrapolation.hpp"  // wall_pressure_kernel
 
 namespace mps_lab {
 
 class CheckpointWriter;
 class CheckpointReader;
 
-// The kernel of the extrapolation: cubic spline, support 2.4 l0 (h = 1.2 l0, as ISPH's and
-// the common density measure's), which reaches the first two fluid rows of a wall.
-SphKernel wall_pressure_kernel(double particle_spacing);
-
-// Adami et al. (2012) eq. 27 at the wall point x_w (see above); `body_force` is g - a_w
+// Adami et al. (2012) eq. 27 at the wall point x_w (see above) with `kernel` (wall_pressure_kernel,
+// core/walls/wall_pressure_extrapolation.hpp); `body_force` is g - a_w
 // (m/s^2), `density` rho_f (kg/m^3). 0 when no fluid particle lies within the support.
 double extrapolated_wall_pressure(const ParticleSet& particles, const Vec2& wall_point, const Vec2& body_force,
                                   double density, const SphKernel& kernel);

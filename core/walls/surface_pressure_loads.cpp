@@ -10,14 +10,13 @@ namespace mps_lab {
 
 namespace {
 
-constexpr double kSupport = 2.4;        // l0: the transducers' kernel (core/run/pressure_sensors.cpp)
 constexpr double kPointSpacing = 0.25;  // l0: the largest distance between two surface points
 
 }  // namespace
 
 SurfacePressureLoads::SurfacePressureLoads(const Scene& scene)
     : geometry_(scene, MovingObstacles::Included),
-      kernel_(SphKernelKind::CubicSpline, kSupport * scene.particle_spacing),
+      kernel_(wall_pressure_kernel(scene.particle_spacing)),
       spacing_(scene.particle_spacing),
       density_(scene.physics.density),
       gravity_(scene.physics.gravity) {}

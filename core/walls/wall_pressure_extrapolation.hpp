@@ -17,6 +17,14 @@
 
 namespace mps_lab {
 
+// The kernel of the extrapolation, for the transducers and the surface loads alike: cubic spline,
+// support 2.4 l0 (h = 1.2 l0, as ISPH's and the common density measure's), which reaches the
+// first two fluid rows of a wall.
+inline SphKernel wall_pressure_kernel(double particle_spacing) {
+  constexpr double support = 2.4;  // l0
+  return SphKernel(SphKernelKind::CubicSpline, support * particle_spacing);
+}
+
 // The sums of eq. 27 over the fluid particles near one wall point.
 struct ExtrapolatedPressure {
   double weights = 0.0;                 // sum_f W_wf, 1/m^2
