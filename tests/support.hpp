@@ -37,6 +37,16 @@ inline Scene load(const std::string& name, const std::vector<std::string>& overr
   return load_scene(scene_path(name), overrides, registries().methods, registries().walls);
 }
 
+// Every boundary model (a wall treatment of role Boundary) that `method` supports, from the
+// registry's declared capabilities (wall_treatment_supports).
+inline std::vector<const WallTreatmentInfo*> boundary_models(const MethodInfo& method) {
+  std::vector<const WallTreatmentInfo*> models;
+  for (const auto* wall : registries().walls.all()) {
+    if (wall->role == WallTreatmentRole::Boundary && wall_treatment_supports(*wall, method)) models.push_back(wall);
+  }
+  return models;
+}
+
 // The one-line error of scenes/<name> with `overrides`, "" if the scene loads.
 // The scene overrides that make `model` the boundary model of `method` in the scene file `name`:
 // "method=...", the model enabled, the scene's other enabled boundary model of that method off

@@ -126,15 +126,6 @@ SensorRun run_tank(const MethodInfo& method, std::vector<std::string> overrides,
   return run;
 }
 
-// Every boundary model (a wall treatment of role Boundary) that `method` supports.
-std::vector<const WallTreatmentInfo*> boundary_models(const MethodInfo& method) {
-  std::vector<const WallTreatmentInfo*> models;
-  for (const auto* wall : registries().walls.all()) {
-    if (wall->role == WallTreatmentRole::Boundary && wall_treatment_supports(*wall, method)) models.push_back(wall);
-  }
-  return models;
-}
-
 }  // namespace
 
 TEST_CASE("wall pressure: the Adami extrapolation is exact for a hydrostatic field", "[unit][sensor]") {

@@ -23,15 +23,6 @@ using namespace mps_lab::testing;
 
 namespace {
 
-// Every boundary model (a wall treatment of role Boundary) that `method` supports.
-std::vector<const WallTreatmentInfo*> boundary_models(const MethodInfo& method) {
-  std::vector<const WallTreatmentInfo*> models;
-  for (const auto* wall : registries().walls.all()) {
-    if (wall->role == WallTreatmentRole::Boundary && wall_treatment_supports(*wall, method)) models.push_back(wall);
-  }
-  return models;
-}
-
 std::string with_model(const MethodInfo& method, const WallTreatmentInfo& model) {
   return "methods." + method.name + ".wall_treatments={\"" + model.name + "\":{}}";
 }
