@@ -104,6 +104,23 @@ TEST_CASE("still water's pressure per fluid block: rho0 g (top particle + offset
   }
 }
 
+TEST_CASE("still water's pressure per fluid block: the head along a tilted gravity - none without gravity",
+          "[scene][geometry]") {
+  // Gravity (3, -4) m/s^2, |g| = 5: the height is x . (-0.6, 0.8); the spec's column's highest
+  // particle in that direction is (0.025, 0.475) (x = i l0, y = j l0, i = 1..9, j = 1..19).
+  const Scene tilted = load("dambreak.json", {"physics.gravity=[3.0, -4.0]"});
+  const ParticleSet particles = build_particles(tilted);
+  const std::vector<double> pressure = hydrostatic_block_pressure(tilted, particles, 0.0);
+  const double top = -0.6 * 0.025 + 0.8 * 0.475;  // m
+  for (std::size_t i = 0; i < particles.size(); ++i) {
+    if (particles.type[i] != ParticleType::Fluid) continue;
+    const Vec2& x = particles.position[i];
+    CHECK(pressure[i] == Approx(1000.0 * 5.0 * (top - (-0.6 * x.x() + 0.8 * x.y()))).margin(1e-9));
+  }
+  const Scene weightless = load("dambreak.json", {"physics.gravity=[0.0, 0.0]"});
+  for (const double p : hydrostatic_block_pressure(weightless, build_particles(weightless), 0.0125)) CHECK(p == 0.0);
+}
+
 TEST_CASE("scene validation names the file and the key", "[scene][input]") {
   const std::string source = scene_path("dambreak.json");
   const auto error_of = [&](const std::vector<std::string>& overrides) -> std::string {

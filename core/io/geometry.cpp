@@ -292,19 +292,21 @@ int block_holding(const Scene& scene, const Vec2& x) {
 
 std::vector<double> hydrostatic_block_pressure(const Scene& scene, const ParticleSet& particles,
                                                double surface_offset) {
-  const double g = -scene.physics.gravity.y();  // m/s^2, > 0 downwards
+  std::vector<double> pressure(particles.size(), 0.0);
+  const double g = scene.physics.gravity.norm();  // m/s^2
+  if (!(g > 0.0)) return pressure;                // no weight, no head
+  const Vec2 up = -scene.physics.gravity / g;     // for gravity along -y, exactly (0, 1): the height is y
   std::vector<double> block_top(scene.fluid_blocks.size(), -1e300);
   std::vector<int> block_of(particles.size(), -1);
   for (std::size_t i = 0; i < particles.size(); ++i) {
     if (particles.type[i] != ParticleType::Fluid) continue;
     block_of[i] = block_holding(scene, particles.position[i]);
-    if (block_of[i] >= 0) block_top[block_of[i]] = std::max(block_top[block_of[i]], particles.position[i].y());
+    if (block_of[i] >= 0) block_top[block_of[i]] = std::max(block_top[block_of[i]], up.dot(particles.position[i]));
   }
-  std::vector<double> pressure(particles.size(), 0.0);
   for (std::size_t i = 0; i < particles.size(); ++i) {
     if (block_of[i] < 0) continue;
-    const double surface = block_top[block_of[i]] + surface_offset;  // y_s, m
-    pressure[i] = std::max(0.0, scene.physics.density * g * (surface - particles.position[i].y()));
+    const double surface = block_top[block_of[i]] + surface_offset;  // its height, m
+    pressure[i] = std::max(0.0, scene.physics.density * g * (surface - up.dot(particles.position[i])));
   }
   return pressure;
 }

@@ -31,13 +31,14 @@ double escape_margin(const Scene& scene);
 // ghosts (spec §7.3). Returns how many particles became ghosts.
 std::size_t mark_escaped_as_ghosts(ParticleSet& particles, const Scene& scene);
 
-// The pressure of still water in the scene's fluid blocks, Pa, per particle: p = rho0 g (y_s - y)
-// with g = -gravity.y() (m/s^2) and y_s the block's highest particle centre + `surface_offset`
-// (m), 0 above y_s; 0 for particles that are not fluid or lie in no block (a particle in two
-// blocks belongs to the first). The start of methods whose pressure carries over from step to step
-// (wcsph's equation of state; eisph's one sweep per step, methods.eisph.initial_pressure): still
-// water starts in equilibrium instead of falling until the pressure builds. surface_offset is
-// where the method's p = 0 lies above the top particle centres (wcsph: l0/2, the water surface).
+// The pressure of still water in the scene's fluid blocks, Pa, per particle: p = rho0 |g| (h_s - h),
+// h = x . (-g/|g|) the height against gravity and h_s the block's highest particle centre +
+// `surface_offset` (m), 0 above h_s; 0 for particles that are not fluid or lie in no block (a
+// particle in two blocks belongs to the first), and everywhere without gravity. The start of
+// methods whose pressure carries over from step to step (wcsph's equation of state; eisph's one
+// sweep per step, methods.eisph.initial_pressure): still water starts in equilibrium instead of
+// falling until the pressure builds. surface_offset is where the method's p = 0 lies above the top
+// particle centres (wcsph: l0/2, the water surface).
 std::vector<double> hydrostatic_block_pressure(const Scene& scene, const ParticleSet& particles, double surface_offset);
 
 }  // namespace mps_lab
