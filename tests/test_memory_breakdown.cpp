@@ -3,9 +3,11 @@
 // assembler without keeping the slots, and Method::memory_breakdown accounts for the matrix and
 // the Krylov vectors as their sizes say.
 #include <string>
+#include <vector>
 
 #include <catch2/catch.hpp>
 
+#include "core/base/memory_bytes.hpp"
 #include "core/linalg/sparse_matrix.hpp"
 #include "core/run/driver.hpp"
 #include "support.hpp"
@@ -87,6 +89,38 @@ TEST_CASE("in-place row assembly gives the padded assembler's matrix bit for bit
   CHECK(matrix.column[1] == 0);  // row 1's entry, not row 0's second
   CHECK(matrix.value[1] == 3.0);
   CHECK_THROWS_AS(in_place.finish(matrix, true), std::logic_error);
+}
+
+TEST_CASE("storage that creeps up from step to step grows by an eighth, not by doubling", "[linalg][profile]") {
+  // resize_with_headroom (core/base/memory_bytes.hpp): from 1000 elements to 1500 one at a time,
+  // as the unknowns or the matrix's entries of a flow creep up, the capacity stays within 1/8 of
+  // the largest size (std::vector's own resize doubles: 2000 on libstdc++ after the first step).
+  std::vector<double> values(1000);
+  for (std::size_t k = 0; k < values.size(); ++k) values[k] = static_cast<double>(k);
+  for (std::size_t size = 1001; size <= 1500; ++size) {
+    resize_with_headroom(values, size);
+    REQUIRE(values.size() == size);
+    CHECK(values.capacity() <= size + size / 8);
+  }
+  CHECK(values[999] == 999.0);  // kept
+  CHECK(values[1499] == 0.0);   // value-initialised
+  // The in-place assembler sizes the matrix the same way: one more entry each time.
+  CsrInPlaceAssembler assembler;
+  CsrMatrix matrix;
+  for (int rows = 800; rows <= 1000; ++rows) {
+    assembler.start(matrix, rows);
+    for (int row = 0; row < rows; ++row) assembler.count(row, 1);
+    assembler.place(matrix);
+    for (int row = 0; row < rows; ++row) {
+      auto writer = assembler.row(row);
+      writer.add(row, 1.0);
+      writer.close();
+    }
+    assembler.finish(matrix, true);
+    REQUIRE(matrix.nonzeros() == static_cast<std::size_t>(rows));
+    CHECK(matrix.column.capacity() <= matrix.nonzeros() + matrix.nonzeros() / 8);
+    CHECK(matrix.value.capacity() <= matrix.nonzeros() + matrix.nonzeros() / 8);
+  }
 }
 
 #ifdef MPS_LAB_WITH_ISPH

@@ -23,6 +23,24 @@ std::size_t held_bytes(const std::vector<T>& first, const Rest&... rest) {
   return held_bytes(first) + held_bytes(rest...);
 }
 
+// Resizes `vector` to `size` (new elements value-initialised, as resize). When that needs more
+// capacity, it reserves size + size/8 first: a size that creeps up from step to step (the
+// unknowns, the matrix's entries, the cells of a spreading flow) then grows the capacity by an
+// eighth, where std::vector's own growth doubles the old size (libstdc++), which left a matrix
+// holding twice the bytes of its entries (docs/performance.md, "Memory").
+template <typename T>
+void resize_with_headroom(std::vector<T>& vector, std::size_t size) {
+  if (size > vector.capacity()) vector.reserve(size + size / 8);
+  vector.resize(size);
+}
+
+// assign(size, value) with the headroom of resize_with_headroom.
+template <typename T>
+void assign_with_headroom(std::vector<T>& vector, std::size_t size, const T& value) {
+  if (size > vector.capacity()) vector.reserve(size + size / 8);
+  vector.assign(size, value);
+}
+
 // Appends every entry of `items` to `out` with `prefix` + "." before its name.
 inline void append_breakdown(MemoryBreakdown& out, const std::string& prefix, const MemoryBreakdown& items) {
   for (const auto& [name, bytes] : items) out.emplace_back(prefix + "." + name, bytes);

@@ -1,4 +1,5 @@
 #include "core/linalg/amg.hpp"
+#include "core/base/memory_bytes.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -35,9 +36,9 @@ constexpr int kNoAggregate = -1;  // no strong neighbour: not on the coarse leve
 
 void resize_csr(CsrMatrix& matrix, int rows, std::size_t nonzeros) {
   matrix.rows = rows;
-  matrix.row_start.resize(static_cast<std::size_t>(rows) + 1);
-  matrix.column.resize(nonzeros);
-  matrix.value.resize(nonzeros);
+  resize_with_headroom(matrix.row_start, static_cast<std::size_t>(rows) + 1);
+  resize_with_headroom(matrix.column, nonzeros);
+  resize_with_headroom(matrix.value, nonzeros);
   matrix.diagonal_first = false;
 }
 
@@ -103,7 +104,7 @@ void multiply_sparse(const CsrMatrix& left, const CsrMatrix& right, int right_co
   const int rows = left.rows;
   product.rows = rows;
   product.diagonal_first = false;
-  product.row_start.resize(static_cast<std::size_t>(rows) + 1);
+  resize_with_headroom(product.row_start, static_cast<std::size_t>(rows) + 1);
   product.row_start[0] = 0;
 #pragma omp parallel if (rows >= kParallelRows)
   {
@@ -192,7 +193,7 @@ const CsrMatrix& AmgPreconditioner::level_matrix(std::size_t level) const {
 void AmgPreconditioner::prepare_smoother(std::size_t level, const CsrMatrix& a) {
   Level& current = levels_[level];
   const int rows = a.rows;
-  current.inverse_diagonal.resize(static_cast<std::size_t>(rows));
+  resize_with_headroom(current.inverse_diagonal, static_cast<std::size_t>(rows));
   double bound = 0.0;
 #pragma omp parallel for schedule(static) reduction(max : bound) if (rows >= kParallelRows)
   for (int r = 0; r < rows; ++r) {
@@ -211,14 +212,14 @@ void AmgPreconditioner::prepare_smoother(std::size_t level, const CsrMatrix& a) 
 // cycle's two vectors (repeat_cycle).
 void AmgPreconditioner::size_work_vectors(std::size_t level, std::size_t rows) {
   Level& current = levels_[level];
-  current.rhs.resize(level == 0 ? 0 : rows);
-  current.solution.resize(level == 0 ? 0 : rows);
-  current.residual.assign(rows + 1, 0.0);
-  current.direction.resize(rows);
+  resize_with_headroom(current.rhs, level == 0 ? 0 : rows);
+  resize_with_headroom(current.solution, level == 0 ? 0 : rows);
+  assign_with_headroom(current.residual, rows + 1, 0.0);
+  resize_with_headroom(current.direction, rows);
   const bool repeated =
       level > 0 && options_.coarse_cycles > 1 && rows >= static_cast<std::size_t>(options_.coarse_cycle_min_rows);
-  current.second_rhs.resize(repeated ? rows : 0);
-  current.second_solution.resize(repeated ? rows : 0);
+  resize_with_headroom(current.second_rhs, repeated ? rows : 0);
+  resize_with_headroom(current.second_solution, repeated ? rows : 0);
 }
 
 void AmgPreconditioner::setup(const CsrMatrix& matrix) {
@@ -271,7 +272,7 @@ double mark_strong_connections(const CsrMatrix& a, const std::vector<double>& in
                                std::vector<char>& strong, std::vector<double>& filtered_diagonal) {
   const int rows = a.rows;
   const double theta_squared = theta * theta;
-  strong.resize(a.nonzeros());
+  resize_with_headroom(strong, a.nonzeros());
   double filtered_bound = 0.0;
 #pragma omp parallel for schedule(static) reduction(max : filtered_bound) if (rows >= kParallelRows)
   for (int r = 0; r < rows; ++r) {
@@ -428,7 +429,7 @@ void build_prolongator(const CsrMatrix& a, const std::vector<char>& strong, cons
   const int rows = a.rows;
   prolongator.rows = rows;
   prolongator.diagonal_first = false;
-  prolongator.row_start.resize(static_cast<std::size_t>(rows) + 1);
+  resize_with_headroom(prolongator.row_start, static_cast<std::size_t>(rows) + 1);
   prolongator.row_start[0] = 0;
 #pragma omp parallel if (rows >= kParallelRows)
   {

@@ -1,4 +1,5 @@
 #include "core/linalg/krylov.hpp"
+#include "core/base/memory_bytes.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -30,7 +31,7 @@ double sum_in_order(const double* partial, int blocks) {
 }
 
 void ensure_size(std::vector<double>& vector, int rows) {
-  if (vector.size() < static_cast<std::size_t>(rows)) vector.resize(static_cast<std::size_t>(rows));
+  if (vector.size() < static_cast<std::size_t>(rows)) resize_with_headroom(vector, static_cast<std::size_t>(rows));
 }
 
 // sum_k value[k] x[column[k]] over [begin, end): two partial sums, which halves the chain of
@@ -136,7 +137,7 @@ double blocked_dot(const double* a, const double* b, int rows, std::vector<doubl
 
 void JacobiPreconditioner::setup(const CsrMatrix& matrix) {
   const int rows = matrix.rows;
-  inverse_diagonal_.resize(static_cast<std::size_t>(rows));
+  resize_with_headroom(inverse_diagonal_, static_cast<std::size_t>(rows));
 #pragma omp parallel for schedule(static)
   for (int r = 0; r < rows; ++r) {
     double diagonal = 0.0;
@@ -209,10 +210,10 @@ void IncompleteLuPreconditioner::setup(const CsrMatrix& matrix) {
   // so that the blocks can copy in parallel.
   count_block_pattern(matrix, block_start_, row_start_);
   const auto entries = static_cast<std::size_t>(row_start_[static_cast<std::size_t>(rows_)]);
-  column_.resize(entries);
-  value_.resize(entries);
-  diagonal_.resize(static_cast<std::size_t>(rows_));
-  inverse_pivot_.resize(static_cast<std::size_t>(rows_));
+  resize_with_headroom(column_, entries);
+  resize_with_headroom(value_, entries);
+  resize_with_headroom(diagonal_, static_cast<std::size_t>(rows_));
+  resize_with_headroom(inverse_pivot_, static_cast<std::size_t>(rows_));
   position_.assign(static_cast<std::size_t>(rows_), -1);
 
 #pragma omp parallel for schedule(static, 1)

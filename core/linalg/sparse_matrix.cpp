@@ -1,4 +1,5 @@
 #include "core/linalg/sparse_matrix.hpp"
+#include "core/base/memory_bytes.hpp"
 
 #include <algorithm>
 #include <stdexcept>
@@ -30,8 +31,8 @@ void CsrAssembler::finish(CsrMatrix& matrix, bool diagonal_first) {
         matrix.row_start[static_cast<std::size_t>(row)] + length_[static_cast<std::size_t>(row)];
   }
   const auto entries = static_cast<std::size_t>(matrix.row_start[static_cast<std::size_t>(rows_)]);
-  matrix.column.resize(entries);
-  matrix.value.resize(entries);
+  resize_with_headroom(matrix.column, entries);
+  resize_with_headroom(matrix.value, entries);
   const int rows = rows_;
 #pragma omp parallel for schedule(static)
   for (int row = 0; row < rows; ++row) {
@@ -60,8 +61,8 @@ void CsrInPlaceAssembler::place(CsrMatrix& matrix) {
     matrix.row_start[static_cast<std::size_t>(row) + 1] += matrix.row_start[static_cast<std::size_t>(row)];
   }
   const auto entries = static_cast<std::size_t>(matrix.row_start[static_cast<std::size_t>(rows_)]);
-  matrix.column.resize(entries);
-  matrix.value.resize(entries);
+  resize_with_headroom(matrix.column, entries);
+  resize_with_headroom(matrix.value, entries);
 }
 
 void CsrInPlaceAssembler::finish(CsrMatrix& matrix, bool diagonal_first) {

@@ -75,13 +75,13 @@ void CellList::build(const std::vector<Vec2>& positions, const std::vector<Parti
     particle_cell_[i] = types[i] == ParticleType::Ghost ? -1 : cell_of(positions[i]);
   }
   // Counting sort by cell (stable: within a cell, particles stay in index order).
-  cell_start_.assign(cells + 1, 0);
+  assign_with_headroom(cell_start_, cells + 1, 0u);
   for (std::size_t i = 0; i < n; ++i) {
     if (particle_cell_[i] >= 0) ++cell_start_[static_cast<std::size_t>(particle_cell_[i]) + 1];
   }
   for (std::size_t c = 0; c < cells; ++c) cell_start_[c + 1] += cell_start_[c];
-  sorted_.resize(cell_start_[cells]);
-  sorted_positions_.resize(cell_start_[cells]);
+  resize_with_headroom(sorted_, cell_start_[cells]);
+  resize_with_headroom(sorted_positions_, cell_start_[cells]);
   fill_.assign(cell_start_.begin(), cell_start_.end() - 1);
   for (std::size_t i = 0; i < n; ++i) {
     if (particle_cell_[i] < 0) continue;
@@ -155,7 +155,7 @@ void CellList::find_neighbours(const std::vector<Vec2>& positions, const std::ve
 #pragma omp single
     {
       for (std::size_t i = 0; i < n; ++i) out.offsets[i + 1] += out.offsets[i];
-      out.indices.resize(out.offsets[n]);  // keeps thread 0's lists at the front
+      resize_with_headroom(out.indices, out.offsets[n]);  // keeps thread 0's lists at the front
     }
     if (thread != 0) {
       std::copy(list.begin(), list.begin() + static_cast<std::ptrdiff_t>(used),
