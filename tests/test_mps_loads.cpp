@@ -80,18 +80,21 @@ TEST_CASE("obstacle loads: mps wall pair terms are equal and opposite to what th
   std::vector<Vec2> with_walls(p.size()), without(p.size()), reaction(p.size(), Vec2::Zero());
   std::vector<double> minimum;
   std::vector<Eigen::Matrix2d> correction;
-  gradient_correction_matrices(p, state.neighbours, none, radius, state.carries_pressure, correction);
+  gradient_correction_matrices(p, state.neighbours, none, radius, state.carries_pressure, correction, DryWallRule{});
   for (const bool cmps : {false, true}) {
     for (const bool gc : {false, true}) {
       if (cmps) {
         std::vector<double> unused;
         cmps_pressure_acceleration(p, state.neighbours, none, radius, state.carries_pressure, kDensity, g, true,
-                                   minimum, with_walls);
-        cmps_pressure_acceleration(p, state.neighbours, none, radius, fluid_only, kDensity, g, true, unused, without);
+                                   minimum, with_walls, DryWallRule{});
+        cmps_pressure_acceleration(p, state.neighbours, none, radius, fluid_only, kDensity, g, true, unused, without,
+                                   DryWallRule{});
       } else {
-        pressure_acceleration(p, state.neighbours, none, radius, state.carries_pressure, kDensity, g, true, with_walls);
-        pressure_acceleration(p, state.neighbours, none, radius, fluid_only, kDensity, g, true, without);
-        neighbourhood_minimum(p, state.neighbours, none, radius, state.carries_pressure, kDensity, g, true, minimum);
+        pressure_acceleration(p, state.neighbours, none, radius, state.carries_pressure, kDensity, g, true, with_walls,
+                              DryWallRule{});
+        pressure_acceleration(p, state.neighbours, none, radius, fluid_only, kDensity, g, true, without, DryWallRule{});
+        neighbourhood_minimum(p, state.neighbours, none, radius, state.carries_pressure, kDensity, g, true, minimum,
+                              DryWallRule{});
       }
       if (gc) {
         apply_gradient_correction(p, correction, with_walls);
@@ -100,7 +103,7 @@ TEST_CASE("obstacle loads: mps wall pair terms are equal and opposite to what th
       const Vec2 on_fluid = fluid_total(p, with_walls, mass) - fluid_total(p, without, mass);
       reaction.assign(p.size(), Vec2::Zero());
       add_pressure_wall_reactions(p, state.neighbours, radius, state.carries_pressure, minimum, cmps, kDensity, mass,
-                                  reaction, gc ? &correction : nullptr);
+                                  reaction, gc ? &correction : nullptr, DryWallRule{});
       INFO("cmps " << cmps << ", gc " << gc << ": on the fluid " << on_fluid.transpose() << " N/m, on the walls "
                    << total(reaction).transpose());
       CHECK(on_fluid.norm() > 100.0);  // the walls push the water: a test of something
@@ -285,22 +288,22 @@ TEST_CASE("wall sample loads: mps sample pair terms are equal and opposite to wh
     bool own_sources = true;
     for (const WallSample& sample : state.samples.samples) own_sources = own_sources && sample.velocity_map.isZero();
     std::vector<Eigen::Matrix2d> correction;  // GC with the samples, applied to both sums (as above)
-    mps::gradient_correction_matrices(p, state.neighbours, state.samples, radius, carries, correction);
+    mps::gradient_correction_matrices(p, state.neighbours, state.samples, radius, carries, correction, DryWallRule{});
     for (const int variant : {0, 1, 2}) {  // spec, cmps, spec with GC
       const bool cmps = variant == 1, gc = variant == 2;
       if (!own_sources) break;
       if (cmps) {
         mps::cmps_pressure_acceleration(p, state.neighbours, state.samples, radius, carries, kDensity, no_gravity, true,
-                                        minimum, with);
+                                        minimum, with, DryWallRule{});
         mps::cmps_pressure_acceleration(p, state.neighbours, WallSampleList{}, radius, carries, kDensity, no_gravity,
-                                        true, unused, without);
+                                        true, unused, without, DryWallRule{});
       } else {
         mps::pressure_acceleration(p, state.neighbours, state.samples, radius, carries, kDensity, no_gravity, true,
-                                   with);
+                                   with, DryWallRule{});
         mps::pressure_acceleration(p, state.neighbours, WallSampleList{}, radius, carries, kDensity, no_gravity, true,
-                                   without);
+                                   without, DryWallRule{});
         mps::neighbourhood_minimum(p, state.neighbours, state.samples, radius, carries, kDensity, no_gravity, true,
-                                   minimum);
+                                   minimum, DryWallRule{});
       }
       if (gc) {
         mps::apply_gradient_correction(p, correction, with);
@@ -309,7 +312,7 @@ TEST_CASE("wall sample loads: mps sample pair terms are equal and opposite to wh
       WallSampleLoads loads;
       loads.reset(2);
       mps::add_pressure_sample_reactions(p, state.samples, radius, minimum, cmps, kDensity, no_gravity, mass, scratch,
-                                         loads, gc ? &correction : nullptr);
+                                         loads, gc ? &correction : nullptr, DryWallRule{});
       const Vec2 on_fluid = fluid_total(p, with, mass) - fluid_total(p, without, mass);
       CHECK(loads.force[0].norm() > 10.0);  // the box is pushed
       check_equal_and_opposite(model->name + (cmps ? ", cmps"

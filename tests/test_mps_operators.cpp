@@ -77,8 +77,8 @@ TEST_CASE("MPS gradient is exact for linear and quadratic fields on the lattice"
   for (std::size_t i = 0; i < p.size(); ++i)
     p.pressure[i] = 5000.0 + 3000.0 * p.position[i].x() - 9810.0 * p.position[i].y();
   for (bool include_self : {true, false}) {
-    pressure_acceleration(p, list, WallSampleList{}, radius, carries, rho, Vec2(0.0, -9.81), include_self,
-                          acceleration);
+    pressure_acceleration(p, list, WallSampleList{}, radius, carries, rho, Vec2(0.0, -9.81), include_self, acceleration,
+                          DryWallRule{});
     // a = -grad P / rho = (-3, 9.81)
     CHECK(acceleration[block.centre].x() == Approx(-3.0).epsilon(1e-10));
     CHECK(acceleration[block.centre].y() == Approx(9.81).epsilon(1e-10));
@@ -88,7 +88,8 @@ TEST_CASE("MPS gradient is exact for linear and quadratic fields on the lattice"
     const Vec2 x = p.position[i];
     p.pressure[i] = 1.0e4 * (x.x() * x.x() + x.x() * x.y() + 2.0 * x.y() * x.y());
   }
-  pressure_acceleration(p, list, WallSampleList{}, radius, carries, rho, Vec2(0.0, -9.81), true, acceleration);
+  pressure_acceleration(p, list, WallSampleList{}, radius, carries, rho, Vec2(0.0, -9.81), true, acceleration,
+                        DryWallRule{});
   const Vec2 exact = -1.0e4 / rho * Vec2(2 * centre.x() + centre.y(), centre.x() + 4 * centre.y());
   CHECK(acceleration[block.centre].x() == Approx(exact.x()).epsilon(1e-10));
   CHECK(acceleration[block.centre].y() == Approx(exact.y()).epsilon(1e-10));

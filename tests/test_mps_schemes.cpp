@@ -76,7 +76,8 @@ TEST_CASE("CMPS gradient: a hand-computed pair sum on three particles", "[mps][s
   const std::vector<char> carries(3, 1);
   std::vector<double> p_hat;
   std::vector<Vec2> acceleration(3, Vec2::Zero());
-  cmps_pressure_acceleration(p, list, WallSampleList{}, radius, carries, kRho, kGravity, true, p_hat, acceleration);
+  cmps_pressure_acceleration(p, list, WallSampleList{}, radius, carries, kRho, kGravity, true, p_hat, acceleration,
+                             DryWallRule{});
   CHECK(p_hat == std::vector<double>{100.0, 100.0, 100.0});
   const double w_diagonal = 2.1 / std::sqrt(2.0) - 1.0;
   const Vec2 sum_b = 200.0 * 1.1 / (kL0 * kL0) * Vec2(-kL0, 0.0) +
@@ -99,7 +100,8 @@ TEST_CASE("CMPS gradient with a wall sample: the hand sum of its pair", "[mps][s
   const std::vector<char> carries(2, 1);
   std::vector<double> p_hat;
   std::vector<Vec2> acceleration(2, Vec2::Zero());
-  cmps_pressure_acceleration(p, list, samples, radius, carries, kRho, kGravity, true, p_hat, acceleration);
+  cmps_pressure_acceleration(p, list, samples, radius, carries, kRho, kGravity, true, p_hat, acceleration,
+                             DryWallRule{});
   const double p_w = 100.0 + kRho * 9.81 * kL0;
   CHECK(p_hat[0] == 50.0);
   const Vec2 sum_a = 50.0 * 1.1 / (kL0 * kL0) * Vec2(kL0, 0.0) +
@@ -129,8 +131,10 @@ TEST_CASE("CMPS gradient conserves linear momentum - the spec's does not", "[mps
   for (bool include_self : {true, false}) {
     std::vector<double> p_hat;
     std::vector<Vec2> cmps(p.size(), Vec2::Zero()), spec(p.size(), Vec2::Zero());
-    cmps_pressure_acceleration(p, list, WallSampleList{}, radius, carries, kRho, kGravity, include_self, p_hat, cmps);
-    pressure_acceleration(p, list, WallSampleList{}, radius, carries, kRho, kGravity, include_self, spec);
+    cmps_pressure_acceleration(p, list, WallSampleList{}, radius, carries, kRho, kGravity, include_self, p_hat, cmps,
+                               DryWallRule{});
+    pressure_acceleration(p, list, WallSampleList{}, radius, carries, kRho, kGravity, include_self, spec,
+                          DryWallRule{});
     Vec2 net_cmps = Vec2::Zero(), net_spec = Vec2::Zero();
     double magnitude_cmps = 0.0, magnitude_spec = 0.0;
     for (std::size_t i = 0; i < p.size(); ++i) {
@@ -161,7 +165,8 @@ TEST_CASE("CMPS gradient of a linear pressure on the lattice is zero", "[mps][sc
   const std::vector<char> carries(p.size(), 1);
   std::vector<double> p_hat;
   std::vector<Vec2> acceleration(p.size(), Vec2::Zero());
-  cmps_pressure_acceleration(p, list, WallSampleList{}, radius, carries, kRho, kGravity, true, p_hat, acceleration);
+  cmps_pressure_acceleration(p, list, WallSampleList{}, radius, carries, kRho, kGravity, true, p_hat, acceleration,
+                             DryWallRule{});
   const double scale = Vec2(3000.0, -9810.0).norm() / kRho;  // |grad p| / rho, m/s^2
   CHECK(acceleration[block.centre].norm() <= 1e-9 * scale);
 }
@@ -193,7 +198,7 @@ TEST_CASE("GC: the corrective matrix on the lattice - identity inside, the hand 
   const NeighbourList list = find_neighbours(p.position, p.type, radius.re);
   const std::vector<char> carries(p.size(), 1);
   std::vector<Eigen::Matrix2d> correction;
-  gradient_correction_matrices(p, list, WallSampleList{}, radius, carries, correction);
+  gradient_correction_matrices(p, list, WallSampleList{}, radius, carries, correction, DryWallRule{});
   CHECK((correction[block.centre] - Eigen::Matrix2d::Identity()).norm() <= 1e-12);
   const std::size_t top = top_middle(block, half_width);
   REQUIRE(top < p.size());
@@ -220,11 +225,11 @@ TEST_CASE("GC: the corrected gradient of the hydrostatic pressure is exact at a 
   const NeighbourList list = find_neighbours(p.position, p.type, radius.re);
   const std::vector<char> carries(p.size(), 1);
   std::vector<Vec2> acceleration(p.size(), Vec2::Zero());
-  pressure_acceleration(p, list, WallSampleList{}, radius, carries, kRho, kGravity, true, acceleration);
+  pressure_acceleration(p, list, WallSampleList{}, radius, carries, kRho, kGravity, true, acceleration, DryWallRule{});
   CHECK(acceleration[top].y() == Approx(0.5 * g).epsilon(1e-9));
   CHECK(acceleration[block.centre].y() == Approx(g).epsilon(1e-9));
   std::vector<Eigen::Matrix2d> correction;
-  gradient_correction_matrices(p, list, WallSampleList{}, radius, carries, correction);
+  gradient_correction_matrices(p, list, WallSampleList{}, radius, carries, correction, DryWallRule{});
   apply_gradient_correction(p, correction, acceleration);
   CHECK(acceleration[top].y() == Approx(g).epsilon(1e-9));
   CHECK(std::fabs(acceleration[top].x()) <= 1e-9 * g);
@@ -248,7 +253,7 @@ TEST_CASE("GC: where M is nearly singular the gradient stays uncorrected", "[mps
     carries[3] = 0;  // a wall particle that carries no pressure: not in M
     const NeighbourList list = find_neighbours(p.position, p.type, radius.re);
     std::vector<Eigen::Matrix2d> correction;
-    gradient_correction_matrices(p, list, WallSampleList{}, radius, carries, correction);
+    gradient_correction_matrices(p, list, WallSampleList{}, radius, carries, correction, DryWallRule{});
     INFO("second neighbour at " << far << " l0");
     if (far == 1.0) {
       CHECK(correction[0](0, 0) == Approx(n0 / 2.2).epsilon(1e-12));
@@ -262,7 +267,8 @@ TEST_CASE("GC: where M is nearly singular the gradient stays uncorrected", "[mps
   for (int k = 0; k < 10; ++k) sheet.add(Vec2(k * kL0, 0.0), Vec2::Zero(), ParticleType::Fluid);
   const NeighbourList list = find_neighbours(sheet.position, sheet.type, radius.re);
   std::vector<Eigen::Matrix2d> correction;
-  gradient_correction_matrices(sheet, list, WallSampleList{}, radius, std::vector<char>(sheet.size(), 1), correction);
+  gradient_correction_matrices(sheet, list, WallSampleList{}, radius, std::vector<char>(sheet.size(), 1), correction,
+                               DryWallRule{});
   for (const Eigen::Matrix2d& c : correction) CHECK((c - Eigen::Matrix2d::Identity()).norm() == 0.0);
 }
 

@@ -121,7 +121,7 @@ TEST_CASE("spec 2: the gradient is d/n0 sum (P_j - P_min) r_ij w_ij / r^2 with P
     // P_i = 100, P_j = 50, P_k = 200 Pa: P_min = 50; the j term vanishes, the k term is 150.
     particles.pressure = {100.0, 50.0, 200.0};
     pressure_acceleration(particles, list, WallSampleList{}, radius, carries, kDensity, Vec2(0.0, -9.81), true,
-                          acceleration);
+                          acceleration, DryWallRule{});
     CHECK(acceleration[0].x() == Approx(0.0).margin(1e-12));
     CHECK(acceleration[0].y() == Approx(-factor * 150.0).epsilon(1e-12));
   }
@@ -129,7 +129,7 @@ TEST_CASE("spec 2: the gradient is d/n0 sum (P_j - P_min) r_ij w_ij / r^2 with P
     // P_i = 10 is the lowest: P_min = 10, terms (50 - 10) along x and (200 - 10) along y.
     particles.pressure = {10.0, 50.0, 200.0};
     pressure_acceleration(particles, list, WallSampleList{}, radius, carries, kDensity, Vec2(0.0, -9.81), true,
-                          acceleration);
+                          acceleration, DryWallRule{});
     CHECK(acceleration[0].x() == Approx(-factor * 40.0).epsilon(1e-12));
     CHECK(acceleration[0].y() == Approx(-factor * 190.0).epsilon(1e-12));
   }

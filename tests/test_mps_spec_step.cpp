@@ -220,7 +220,7 @@ TEST_CASE("spec 5.2-8: the correction is u = ux + dt a_p and r = rx + dt^2 a_p w
   const NeighbourList list = find_neighbours(at_search.position, at_search.type, radius.re);
   std::vector<Vec2> a_p(particles.size(), Vec2::Zero());
   pressure_acceleration(at_search, list, WallSampleList{}, radius, std::vector<char>(particles.size(), 1),
-                        scene.physics.density, kGravity, true, a_p);
+                        scene.physics.density, kGravity, true, a_p, DryWallRule{});
   double largest = 0.0;
   for (std::size_t i = 0; i < particles.size(); ++i) {
     INFO("particle " << i);

@@ -111,7 +111,7 @@ void add_viscous_acceleration(const ParticleSet& particles, const NeighbourList&
 void pressure_acceleration(const ParticleSet& particles, const NeighbourList& neighbours, const WallSampleList& samples,
                            const OperatorRadius& radius, const std::vector<char>& carries_pressure, double density,
                            const Vec2& gravity, bool min_includes_self, std::vector<Vec2>& acceleration,
-                           const DryWallRule& dry = DryWallRule{});
+                           const DryWallRule& dry);
 
 // P_min,i (the spec's, §2) or Phat_i (CMPS): the minimum pressure over i's pressure-carrying
 // neighbours and wall samples within re, and over i itself when `min_includes_self`, for every
@@ -119,7 +119,7 @@ void pressure_acceleration(const ParticleSet& particles, const NeighbourList& ne
 void neighbourhood_minimum(const ParticleSet& particles, const NeighbourList& neighbours, const WallSampleList& samples,
                            const OperatorRadius& radius, const std::vector<char>& carries_pressure, double density,
                            const Vec2& gravity, bool min_includes_self, std::vector<double>& out,
-                           const DryWallRule& dry = DryWallRule{});
+                           const DryWallRule& dry);
 
 // The fluid's reaction on wall particles (docs/walls.md, "Loads on obstacles"): for every wall
 // particle j, minus the sum over its fluid neighbours i of m nu <lap u> pair term (spec §2,
@@ -137,8 +137,7 @@ void add_pressure_wall_reactions(const ParticleSet& particles, const NeighbourLi
                                  const OperatorRadius& radius, const std::vector<char>& carries_pressure,
                                  const std::vector<double>& minimum_pressure, bool cmps, double density,
                                  double particle_mass, std::vector<Vec2>& reaction,
-                                 const std::vector<Eigen::Matrix2d>* correction = nullptr,
-                                 const DryWallRule& dry = DryWallRule{});
+                                 const std::vector<Eigen::Matrix2d>* correction, const DryWallRule& dry);
 
 // The same on wall samples (obstacle_load pair_reaction with a boundary model of wall samples; core/walls/
 // wall_sample_reactions.hpp): adds to `loads` the reaction of each obstacle's samples of the viscous and
@@ -150,7 +149,6 @@ void add_pressure_sample_reactions(const ParticleSet& particles, const WallSampl
                                    const OperatorRadius& radius, const std::vector<double>& minimum_pressure, bool cmps,
                                    double density, const Vec2& gravity, double particle_mass,
                                    std::vector<Vec2>& scratch, WallSampleLoads& loads,
-                                   const std::vector<Eigen::Matrix2d>* correction = nullptr,
-                                   const DryWallRule& dry = DryWallRule{});
+                                   const std::vector<Eigen::Matrix2d>* correction, const DryWallRule& dry);
 
 }  // namespace mps_lab::mps

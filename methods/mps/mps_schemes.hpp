@@ -88,7 +88,7 @@ void cmps_pressure_acceleration(const ParticleSet& particles, const NeighbourLis
                                 const WallSampleList& samples, const OperatorRadius& radius,
                                 const std::vector<char>& carries_pressure, double density, const Vec2& gravity,
                                 bool min_includes_self, std::vector<double>& minimum_pressure,
-                                std::vector<Vec2>& acceleration, const DryWallRule& dry = DryWallRule{});
+                                std::vector<Vec2>& acceleration, const DryWallRule& dry);
 
 // GC, the corrective matrix of the pressure gradient (Khayyer & Gotoh 2011, J. Comput. Phys. 230,
 // "Enhancement of stability and accuracy of the moving particle semi-implicit method"):
@@ -106,7 +106,7 @@ constexpr double kMinimumCorrectionDeterminant = 0.1;  // a flat surface: 0.43; 
 void gradient_correction_matrices(const ParticleSet& particles, const NeighbourList& neighbours,
                                   const WallSampleList& samples, const OperatorRadius& radius,
                                   const std::vector<char>& carries_pressure, std::vector<Eigen::Matrix2d>& correction,
-                                  const DryWallRule& dry = DryWallRule{});
+                                  const DryWallRule& dry);
 
 // a_i <- C_i a_i for every fluid particle: the pressure acceleration -(1/rho) <grad P>_i (spec or
 // CMPS) is linear in the gradient, so this is -(1/rho) C_i <grad P>_i.
