@@ -24,13 +24,13 @@ std::size_t held_bytes(const std::vector<T>& first, const Rest&... rest) {
 }
 
 // Resizes `vector` to `size` (new elements value-initialised, as resize). When that needs more
-// capacity, it reserves size + size/8 first: a size that creeps up from step to step (the
-// unknowns, the matrix's entries, the cells of a spreading flow) then grows the capacity by an
-// eighth, where std::vector's own growth doubles the old size (libstdc++), which left a matrix
-// holding twice the bytes of its entries (docs/performance.md, "Memory").
+// capacity, it reserves size + size/headroom_divisor first: a size that creeps up from step to
+// step (the unknowns, the matrix's entries, the cells of a spreading flow) then grows the capacity
+// by an eighth, where std::vector's own growth doubles the old size (libstdc++), which left a
+// matrix holding twice the bytes of its entries (docs/performance.md, "Memory").
 template <typename T>
-void resize_with_headroom(std::vector<T>& vector, std::size_t size) {
-  if (size > vector.capacity()) vector.reserve(size + size / 8);
+void resize_with_headroom(std::vector<T>& vector, std::size_t size, std::size_t headroom_divisor = 8) {
+  if (size > vector.capacity()) vector.reserve(size + size / headroom_divisor);
   vector.resize(size);
 }
 

@@ -1,5 +1,4 @@
 #include "core/linalg/amg.hpp"
-#include "core/base/memory_bytes.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -8,6 +7,7 @@
 
 #include <omp.h>
 
+#include "core/base/memory_bytes.hpp"
 #include "core/io/checkpoint.hpp"
 
 namespace mps_lab {
@@ -68,8 +68,8 @@ struct RowBuffer {
   std::size_t growth_divisor;  // grow by size / this: the vectors are kept at their largest
   void ensure(std::size_t size) {
     if (column.size() >= size) return;
-    column.resize(size + size / growth_divisor);
-    value.resize(size + size / growth_divisor);
+    resize_with_headroom(column, size + size / growth_divisor, growth_divisor);
+    resize_with_headroom(value, size + size / growth_divisor, growth_divisor);
   }
 };
 

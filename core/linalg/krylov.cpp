@@ -1,10 +1,11 @@
 #include "core/linalg/krylov.hpp"
-#include "core/base/memory_bytes.hpp"
 
 #include <algorithm>
 #include <cmath>
 #include <limits>
 #include <utility>
+
+#include "core/base/memory_bytes.hpp"
 
 namespace mps_lab {
 

@@ -1,9 +1,9 @@
 #include "core/linalg/sparse_matrix.hpp"
-#include "core/base/memory_bytes.hpp"
 
 #include <algorithm>
 #include <stdexcept>
 
+#include "core/base/memory_bytes.hpp"
 #include "core/base/parallel.hpp"
 
 namespace mps_lab {
