@@ -110,9 +110,11 @@ struct SampleState {
   WallSampleList samples;
 };
 
-inline SampleState sample_state(const WallTreatmentInfo& model, double support) {
+inline SampleState sample_state(const WallTreatmentInfo& model, double support,
+                                const std::vector<std::string>& settings = {}) {
   std::vector<std::string> overrides = boundary_model_overrides("hydrostatic.json", "isph", model.name);
   overrides.push_back(kStillWaterObstacles);
+  overrides.insert(overrides.end(), settings.begin(), settings.end());
   SampleState state{load("hydrostatic.json", overrides), {}, {}, {}};
   ParticleSet& p = state.particles = build_particles(state.scene, false);
   for (std::size_t i = 0; i < p.size(); ++i) {

@@ -308,8 +308,10 @@ TEST_CASE("still water over a 25-degree sloped bed - every method and boundary m
   // particle slower than sqrt(2 g D) = 2.43 m/s at 1.5 s, the speed of a particle that fell the
   // whole water depth D = 0.3 m (the largest over 12 realisations: 0.21-1.29 m/s for dfsph,
   // isph, eisph and wcsph, mps 1.07-2.23 m/s). Except mps x distance_function, reported only:
-  // its pressure spikes throw a particle at 1.5-22 m/s (5 of 12 realisations above 2.43 m/s;
-  // docs/walls.md, "Polygon walls"). Reported with CHECK_NOFAIL: the water still, every particle
+  // its pressure spikes throw a particle at 1.5-22 m/s (5 of 12 realisations above 2.43 m/s at
+  // 1.5 s): the default corner rule of the distance function makes the wall sums jump beside the
+  // toe; `corners: blended` removes the spikes (tests/test_distance_function_corners.cpp;
+  // docs/walls.md, "Distance function at corners"). Reported with CHECK_NOFAIL: the water still, every particle
   // slower than sqrt(2 g l0) = 0.7 m/s, a fall of one spacing (the spikes of mps's source term
   // exceed it, docs/methods/mps.md).
   for (const MethodInfo* method : registries().methods.all()) {

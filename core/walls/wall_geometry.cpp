@@ -215,19 +215,33 @@ bool WallGeometry::past_open_side(const Vec2& x) const {
          (!walls_.bottom && x.y() < domain_.min.y()) || (!walls_.top && x.y() > domain_.max.y());
 }
 
-double WallGeometry::depth_inside(const Vec2& x) const {
+double WallGeometry::tank_depth(const Vec2& x) const {
   double depth = 0.0;
   // Tank: behind a walled side's surface, unless past an open side (above an open top).
-  const bool past_open = past_open_side(x);
+  if (past_open_side(x)) return depth;
   // A tank side is a slab `layers` spacings thick (its wall particles): a particle beyond its
   // outer face went over the crest and lies outside the tank, not in the wall.
   const double thickness = walls_.layers * 2.0 * half_spacing_;
-  if (!past_open) {
-    for (const double d :
-         {interior_.min.x() - x.x(), x.x() - interior_.max.x(), interior_.min.y() - x.y(), x.y() - interior_.max.y()}) {
-      if (d < thickness) depth = std::max(depth, d);
-    }
+  for (const double d :
+       {interior_.min.x() - x.x(), x.x() - interior_.max.x(), interior_.min.y() - x.y(), x.y() - interior_.max.y()}) {
+    if (d < thickness) depth = std::max(depth, d);
   }
+  return depth;
+}
+
+std::optional<int> WallGeometry::solid_holding(const Vec2& x) const {
+  if (tank_depth(x) > 0.0) return -1;
+  for (std::size_t k = 0; k < obstacles_.size(); ++k) {
+    if (strictly_inside_box(x, obstacles_[k])) return static_cast<int>(k);
+  }
+  for (std::size_t k = 0; k < polygons_.size(); ++k) {
+    if (inside_polygon_solid(x, k)) return static_cast<int>(k);
+  }
+  return std::nullopt;
+}
+
+double WallGeometry::depth_inside(const Vec2& x) const {
+  double depth = tank_depth(x);
   for (const Box& s : obstacles_) {
     if (strictly_inside_box(x, s)) {
       depth = std::max(depth, std::min({x.x() - s.min.x(), s.max.x() - x.x(), x.y() - s.min.y(), s.max.y() - x.y()}));

@@ -22,6 +22,7 @@
 // moved, a box is first cut at the tank's wall surfaces (a gate standing on the bed has its foot
 // at the bed's surface, as its wall particles: the bed's row stays with the tank).
 #include <cstddef>
+#include <optional>
 #include <vector>
 
 #include "core/base/particles.hpp"
@@ -75,6 +76,9 @@ class WallGeometry {
   // made more than l0 (layers + 1) outside the domain, beyond any side's slab, so depth_inside
   // alone cannot see them (core/run/stability.cpp, check_ghosts).
   bool behind_walled_side(const Vec2& x) const;
+  // The solid that holds x: -1 for the tank's walls (which win where an obstacle overlaps them),
+  // k for walls.obstacles[k] where the geometry puts it, none outside every solid.
+  std::optional<int> solid_holding(const Vec2& x) const;
   // Distance from x to the nearest wall segment, m; its index in *nearest if given.
   double distance(const Vec2& x, std::size_t* nearest = nullptr) const;
   // Distance from x to segment k, m.
@@ -83,6 +87,7 @@ class WallGeometry {
  private:
   void build_segments();
   bool past_open_side(const Vec2& x) const;
+  double tank_depth(const Vec2& x) const;  // m behind a walled side's surface, 0 elsewhere
   bool inside_polygon_solid(const Vec2& x, std::size_t k) const;
   void add_polygon_edges(std::vector<WallSegment>& candidates) const;
   std::vector<WallSegment> split_tank_sides_at_polygons(const std::vector<WallSegment>& sides) const;
