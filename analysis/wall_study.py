@@ -17,7 +17,8 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--binary", help="mps_lab binary (default: $MPS_LAB_BINARY, else build/mps_lab, else PATH)")
     parser.add_argument("--methods", nargs="+", help="methods (default: every one `mps_lab methods` lists)")
     parser.add_argument("--models", nargs="+",
-                        help="boundary models; default = each method's own (default: default and every other)")
+                        help="boundary models; default = each method's own, NAME:key=value[,key=value] a variant of NAME "
+                             "(default: default and every other)")
     parser.add_argument("--scenes", nargs="+", default=list(wall_study.SCENES), choices=list(wall_study.SCENES))
     parser.add_argument("--parallel", type=int, default=os.cpu_count() or 1, help="cases at a time")
     parser.add_argument("--timeout", type=float, default=wall_study.DEFAULT_TIMEOUT,

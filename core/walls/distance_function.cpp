@@ -22,9 +22,11 @@
 //     volume, c_t the coverage of p by the rows of segment t near i: 1 inside t's band, falling
 //     to 0 within half a point spacing at its faces and within a band beyond t's ends. A share
 //     goes continuously to 1 where p leaves the other rows, so i's wall sums are continuous as
-//     it moves past a corner the fluid sees as concave (the solid the union of the half-planes);
-//     a convex corner keeps the cut at the solid's surface. On a straight wall every share is 1:
-//     Harada's rows exactly (docs/walls.md, "Distance function at corners").
+//     it moves past a corner the fluid sees as concave (the solid the union of the half-planes).
+//     At a convex corner the points of one face's rows leave the solid through the other face;
+//     they fade out linearly within half a point spacing of any other segment's surface, so they
+//     leave it with weight 0. On a straight wall every share is 1 and no point is that near
+//     another surface: Harada's rows exactly (docs/walls.md, "Distance function at corners").
 // Each point carries i's own pressure extrapolated hydrostatically,
 // p_w = p_i + rho0 (g - a_w) . (x_w - x_i); the wall is at rest (no slip) or moves with the
 // mirror of i's velocity (free slip). The segments of a moving obstacle move with it
@@ -100,7 +102,8 @@ class DistanceFunction final : public WallSampleModel {
         const Vec2 point = row + m * rows.step * tangent;
         if ((point - x).squaredNorm() >= context.support * context.support) continue;
         if (!geometry_.inside_solid(point)) continue;
-        const double weight = blended_corners_ ? share(point, rows, near) : nearest_only(point, rows.segment);
+        const double weight = blended_corners_ ? share(point, rows, near) * surface_fade(point, rows, near)
+                                               : nearest_only(point, rows.segment);
         if (weight <= 0.0) continue;
         WallSample sample;
         sample.position = point;
@@ -136,6 +139,19 @@ class DistanceFunction final : public WallSampleModel {
       if (t == rows.segment) own = coverage;
     }
     return total > 0.0 ? own / total : 0.0;
+  }
+
+  // corners = blended: 1, falling linearly to 0 as p comes within half a row step of the surface
+  // of another segment in `near`. The rows of that segment have no point there (their first row
+  // is half a step deep), so the points of other rows fade out towards it and leave the solid,
+  // where they are cut, with weight 0: at a convex corner (an obstacle's top) the cut is
+  // continuous. On the lattice no row point lies nearer than half a step to another surface.
+  double surface_fade(const Vec2& p, const VirtualRows& rows, const std::vector<std::size_t>& near) const {
+    double fade = 1.0;
+    for (const std::size_t t : near) {
+      if (t != rows.segment) fade *= std::min(1.0, geometry_.distance_to(p, t) / (0.5 * rows.step));
+    }
+    return fade;
   }
 
   // How fully a segment's rows cover the point p (0 to 1). The rows fill the band of depth

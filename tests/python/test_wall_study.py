@@ -187,6 +187,28 @@ class WallStudyTest(unittest.TestCase):
         self.assertEqual(command[command.index("--end-time") + 1], "1.0")
         self.assertFalse(any("wall_treatments" in a for a in wall_study.arguments_of(cases[0], "/o")))
 
+    def test_model_variants(self):
+        catalogue = methods.method_catalogue(BINARY)
+        if "mps" not in catalogue or "distance_function" not in catalogue["mps"].boundary_models:
+            self.skipTest("a build without mps or its distance_function")
+        cases = wall_study.cases_of(catalogue, ["mps"], ["distance_function", "distance_function:corners=blended"],
+                                    ["hydrostatic_slope"])
+        self.assertEqual([c["name"] for c in cases], ["hydrostatic_slope__mps__distance_function",
+                                                      "hydrostatic_slope__mps__distance_function:corners=blended"])
+        self.assertEqual(cases[1]["boundary_model"], "distance_function:corners=blended")
+        self.assertFalse(cases[1]["default"])
+        command = wall_study.arguments_of(cases[1], "/o")
+        self.assertIn('methods.mps.wall_treatments.distance_function={"corners": "blended"}', command)
+        self.assertIn("methods.mps.wall_treatments.spec_wall_particles.enabled=false", command)
+        # a variant of the method's own model keeps it on and sets its parameters; JSON values parse
+        self.assertEqual(wall_study.model_variant("dummy_layers:layers=4,crossing=none"),
+                         ("dummy_layers", {"layers": 4, "crossing": "none"}))
+        own = wall_study.cases_of(catalogue, ["mps"], ["spec_wall_particles:enabled=true"], ["hydrostatic"])
+        self.assertEqual(own[0]["overrides"]["methods.mps.wall_treatments.spec_wall_particles"], {"enabled": True})
+        self.assertNotIn("methods.mps.wall_treatments.spec_wall_particles.enabled", own[0]["overrides"])
+        with self.assertRaises(ValueError):
+            wall_study.model_variant("distance_function:corners")
+
 
 if __name__ == "__main__":
     unittest.main()

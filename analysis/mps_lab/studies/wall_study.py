@@ -12,7 +12,10 @@ default)"), so a new method or boundary model joins the study without an edit he
 one `mps_lab run --method=M SCENE` into <out>/cases/<scene>__<method>__<model>/; a model other
 than the default is named with `--set methods.M.wall_treatments.MODEL={}` and the default is
 switched off (`--set methods.M.wall_treatments.DEFAULT.enabled=false`, for a scene that names
-it); the scene's other treatments stay (the MPS clamps, ...). Every
+it); the scene's other treatments stay (the MPS clamps, ...). A variant of a model,
+`--models distance_function:corners=blended`, sets its parameters
+(`methods.M.wall_treatments.MODEL={"corners":"blended"}`) and is a model of its own in the
+table and the figure. Every
 case runs with stability.on_divergence=continue: a wall penetration is counted, not a stop.
 Scenes: dambreak (scenes/dambreak.json, T = 2 s), hydrostatic (scenes/hydrostatic.json to
 T = 1 s with a frame every 0.05 s), dambreak_obstacle (scenes/dambreak_obstacle.json, T = 2 s),
@@ -126,25 +129,46 @@ TEXT_COLUMNS = {"scene", "method", "boundary_model", "default", "status", "model
 
 # --- the cases -----------------------------------------------------------------------------
 
+def model_variant(entry: str) -> tuple[str, dict]:
+    """A --models entry: a boundary model's name, or a variant "NAME:key=value[,key=value]" that
+    sets the model's parameters (each value JSON, or a bare string: corners=blended). A variant
+    is its own bar and row, labelled by the entry."""
+    name, _, settings = entry.partition(":")
+    parameters = {}
+    for item in filter(None, settings.split(",")):
+        key, equals, value = item.partition("=")
+        if not equals or not key:
+            raise ValueError(f"--models {entry}: expected NAME:key=value[,key=value], got '{item}'")
+        try:
+            parameters[key] = json.loads(value)
+        except json.JSONDecodeError:
+            parameters[key] = value
+    return name, parameters
+
+
 def cases_of(catalogue: dict[str, methods.MethodInfo], chosen: list[str], models: list[str], scenes: list[str],
              quick: bool = False) -> list[dict]:
     """Every scene x method x boundary model the method supports; "default" in models stands
-    for each method's own. catalogue: methods.method_catalogue of the binary."""
+    for each method's own, "NAME:key=value" for a variant of NAME (model_variant).
+    catalogue: methods.method_catalogue of the binary."""
+    variants = [(entry, *model_variant(entry)) for entry in models if ":" in entry]
     cases = []
     for scene in scenes:
         path, end_time, quick_end, extra = SCENES[scene]
         for method in chosen:
             info = catalogue[method]
             own = info.default_boundary_model
-            for model in [own] + [m for m in info.boundary_models if m != own]:
-                if model not in models and not (model == own and DEFAULT_SLOT in models):
-                    continue
+            chosen_models = [(m, m, {}) for m in [own] + [m for m in info.boundary_models if m != own]
+                             if m in models or (m == own and DEFAULT_SLOT in models)]
+            chosen_models += [v for v in variants if v[1] in info.boundary_models]
+            for label, model, parameters in chosen_models:
                 overrides = {**COMMON, **extra}
-                if model != own:  # the default switched off too: a scene may name it (wcsph's block does)
-                    overrides[f"methods.{method}.wall_treatments.{model}"] = {}
+                if model != own or parameters:  # the default switched off too: a scene may name it (wcsph's block does)
+                    overrides[f"methods.{method}.wall_treatments.{model}"] = parameters
+                if model != own:
                     overrides[f"methods.{method}.wall_treatments.{own}.enabled"] = False
-                cases.append({"name": f"{scene}__{method}__{model}", "scene": scene, "scene_file": path,
-                              "method": method, "boundary_model": model, "default": model == own,
+                cases.append({"name": f"{scene}__{method}__{label}", "scene": scene, "scene_file": path,
+                              "method": method, "boundary_model": label, "default": label == own,
                               "end_time": quick_end if quick else end_time, "overrides": overrides})
     return cases
 
@@ -687,9 +711,10 @@ def choose(catalogue: dict[str, methods.MethodInfo], chosen: list[str] | None,
         if method not in catalogue:
             raise ValueError(f"--methods: {method}: not a registered method (expected one of: {', '.join(registered)})")
     for model in models:
-        if model != DEFAULT_SLOT and model not in every_model:
+        name = model_variant(model)[0]  # raises on a malformed variant
+        if model != DEFAULT_SLOT and name not in every_model:
             raise ValueError(f"--models: {model}: not a boundary model (expected default or one of: "
-                             f"{', '.join(every_model)})")
+                             f"{', '.join(every_model)}, or NAME:key=value)")
     return chosen, models
 
 
