@@ -26,69 +26,61 @@ std::string distance_function(const std::string& corners) {
   return "methods.mps.wall_treatments={\"distance_function\":{\"corners\":\"" + corners + "\"}}";
 }
 
-// The wall part of the MPS number density (spec §2, re = 2.1 l0) of a lone fluid particle at each
-// of `positions` in scenes/hydrostatic_slope.json with the distance function's `corners` rule.
-std::vector<double> wall_number_density(const std::string& corners, const std::vector<Vec2>& positions) {
-  const Scene scene = load("hydrostatic_slope.json", {distance_function(corners)});
+// The wall part of the MPS number density (spec §2, re = 2.1 l0) of the lone fluid particle of
+// `particles` (index 0), from the wall samples `set` builds for it.
+double wall_number_density(const Scene& scene, WallTreatmentSet& set, ParticleSet& particles) {
   const double l0 = scene.particle_spacing, re = 2.1 * l0;
-  WallTreatmentSet set(scene.method_config("mps").wall_treatments, scene);
-  std::vector<double> density;
-  for (const Vec2& x : positions) {
-    ParticleSet particles;
-    particles.add(x, Vec2::Zero(), ParticleType::Fluid);
-    WallContext context{particles, nullptr, 5e-4, scene};
-    context.support = re;
-    WallSampleList samples;
-    set.build_wall_samples(context, samples);
-    double n = 0.0;
-    for (std::uint32_t k = samples.begin(0); k < samples.end(0); ++k) {
-      const WallSample& sample = samples.samples[k];
-      n += sample.volume * mps_weight((sample.position - x).norm(), re, 0.01 * l0);
-    }
-    density.push_back(n);
+  WallContext context{particles, nullptr, 5e-4, scene};
+  context.support = re;
+  WallSampleList samples;
+  set.build_wall_samples(context, samples);
+  double n = 0.0;
+  for (std::uint32_t k = samples.begin(0); k < samples.end(0); ++k) {
+    const WallSample& sample = samples.samples[k];
+    n += sample.volume * mps_weight((sample.position - particles.position[0]).norm(), re, 0.01 * l0);
   }
-  return density;
+  return n;
 }
 
-// The largest change of the wall number density between neighbouring points of the path
-// y = 0.025 m (half a spacing above the bed's surface), x from 0.05 to 0.16 m (the slope's toe is at
-// x = 0.15 m on the bed's surface), taken in steps of `step` m.
-double largest_change(const std::string& corners, double step) {
-  std::vector<Vec2> path;
-  for (double x = 0.05; x <= 0.16; x += step) path.emplace_back(x, 0.025);
-  const std::vector<double> n = wall_number_density(corners, path);
-  double largest = 0.0;
-  for (std::size_t k = 1; k < n.size(); ++k) largest = std::max(largest, std::fabs(n[k] - n[k - 1]));
+// The largest change of that wall number density between neighbouring values of a parameter s
+// = 0, step, ... up to `end`, the lone particle and its walls given by particles_at(s).
+template <typename ParticlesAt>
+double largest_change(const Scene& scene, double end, double step, ParticlesAt particles_at) {
+  WallTreatmentSet set(scene.method_config("mps").wall_treatments, scene);
+  double previous = 0.0, largest = 0.0;
+  for (double s = 0.0; s <= end; s += step) {
+    ParticleSet particles = particles_at(s);
+    const double n = wall_number_density(scene, set, particles);
+    if (s > 0.0) largest = std::max(largest, std::fabs(n - previous));
+    previous = n;
+  }
   return largest;
 }
 
-// The largest change of the wall number density of a particle at the foot of the gate of
-// scenes/dambreak_gate.json (x = 0.225 m, y = 0.025 m: half a spacing from the gate's left face and
-// from the bed) as the gate is lifted from 0 to 50 mm in steps of `step` m. The gate's bottom is a
-// convex corner that passes the particle's rows.
+// Along the path y = 0.025 m (half a spacing above the bed's surface) of
+// scenes/hydrostatic_slope.json, x from 0.05 to 0.16 m (the slope's toe is at x = 0.15 m on the
+// bed's surface), in steps of `step` m.
+double largest_change_to_the_toe(const std::string& corners, double step) {
+  const Scene scene = load("hydrostatic_slope.json", {distance_function(corners)});
+  return largest_change(scene, 0.11, step, [](double s) {
+    ParticleSet particles;
+    particles.add(Vec2(0.05 + s, 0.025), Vec2::Zero(), ParticleType::Fluid);
+    return particles;
+  });
+}
+
+// A particle at the foot of the gate of scenes/dambreak_gate.json (x = 0.225 m, y = 0.025 m: half
+// a spacing from the gate's left face and from the bed) as the gate is lifted from 0 to 50 mm in
+// steps of `step` m. The gate's bottom is a convex corner that passes the particle's rows.
 double largest_change_as_the_gate_lifts(const std::string& corners, double step) {
   const Scene scene = load("dambreak_gate.json", {distance_function(corners)});
-  const double l0 = scene.particle_spacing, re = 2.1 * l0;
-  WallTreatmentSet set(scene.method_config("mps").wall_treatments, scene);
-  double previous = 0.0, largest = 0.0;
-  for (double lift = 0.0; lift <= 0.05; lift += step) {
+  return largest_change(scene, 0.05, step, [&scene](double lift) {
     ParticleSet particles;
     particles.add(Vec2(0.225, 0.025), Vec2::Zero(), ParticleType::Fluid);
     particles.obstacle_pose.assign(scene.walls.obstacles.size(), RigidPose{});
     particles.obstacle_pose[0].displacement = Vec2(0.0, lift);
-    WallContext context{particles, nullptr, 5e-4, scene};
-    context.support = re;
-    WallSampleList samples;
-    set.build_wall_samples(context, samples);
-    double n = 0.0;
-    for (std::uint32_t k = samples.begin(0); k < samples.end(0); ++k) {
-      n += samples.samples[k].volume *
-           mps_weight((samples.samples[k].position - particles.position[0]).norm(), re, 0.01 * l0);
-    }
-    if (lift > 0.0) largest = std::max(largest, std::fabs(n - previous));
-    previous = n;
-  }
-  return largest;
+    return particles;
+  });
 }
 
 }  // namespace
@@ -115,8 +107,10 @@ TEST_CASE("distance function corners: the wall number density is continuous past
   // shrinks tenfold with a tenfold finer step; a jump keeps its size. Measured (n0 = 6.54):
   // nearest 1.064 at 0.5 mm and at 0.05 mm (a point of the slope's rows entering at x = 0.1445 m
   // and leaving at 0.156 m, others of 0.16-0.48), blended 0.042 and 0.0042.
-  const double nearest_coarse = largest_change("nearest", 5e-4), nearest_fine = largest_change("nearest", 5e-5);
-  const double blended_coarse = largest_change("blended", 5e-4), blended_fine = largest_change("blended", 5e-5);
+  const double nearest_coarse = largest_change_to_the_toe("nearest", 5e-4),
+               nearest_fine = largest_change_to_the_toe("nearest", 5e-5);
+  const double blended_coarse = largest_change_to_the_toe("blended", 5e-4),
+               blended_fine = largest_change_to_the_toe("blended", 5e-5);
   WARN("largest change of the wall number density per step, 0.5 mm / 0.05 mm: nearest "
        << nearest_coarse << " / " << nearest_fine << ", blended " << blended_coarse << " / " << blended_fine);
   CHECK(nearest_fine > 0.5 * nearest_coarse);  // a jump
