@@ -71,7 +71,7 @@ class DistanceFunction final : public WallSampleModel {
     const double reach = context.support + (blended_corners_ ? 2.0 * rows * step : 0.0);  // m
     samples.offsets.assign(n + 1, 0);
     samples.samples.clear();
-    std::vector<std::size_t> near;  // the segments within i's support, whose rows i sees
+    std::vector<std::size_t> near;  // the segments within `reach` of i, whose rows i sees
     for (std::size_t i = 0; i < n; ++i) {
       samples.offsets[i] = static_cast<std::uint32_t>(samples.samples.size());
       if (particles.type[i] != ParticleType::Fluid) continue;
@@ -196,7 +196,7 @@ void mps_lab_register_wall_treatment_distance_function(mps_lab::WallTreatmentReg
           .one_of({"no_slip", "free_slip"}),
       string_parameter("corners", "nearest",
                        "where two segments' virtual rows overlap: nearest (a point counts for its nearest segment) or "
-                       "blended (each counts with its share of the rows covering it: continuous at concave corners)")
+                       "blended (each counts with its share of the rows covering it: continuous past every corner)")
           .one_of({"nearest", "blended"}),
   };
   info.parameters.push_back(crossing_parameter("none"));
