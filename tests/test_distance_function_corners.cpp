@@ -87,10 +87,9 @@ double largest_change_as_the_gate_lifts(const std::string& corners, double step)
 
 TEST_CASE("distance function corners: the wall number density is continuous past a convex corner only when blended",
           "[walls][moving]") {
-  // As above, by step refinement. Measured: nearest 2.30 at 1 mm and at 0.1 mm steps (at rest the
-  // bed's surface runs on under the gate, ties with its face and wins: the particle sees the bed
-  // only; then jumps of 0.5-1.1 as the gate's bottom passes its rows), blended 0.104 and 0.011:
-  // the points of the face's rows fade out towards the gate's bottom before they leave the solid.
+  // As above, by step refinement. Measured: nearest 0.51 at 1 mm and 0.49 at 0.1 mm steps (the
+  // gate's bottom passing the particle's rows), blended 0.104 and 0.011: the points of the face's
+  // rows fade out towards the gate's bottom before they leave the solid.
   const double nearest_coarse = largest_change_as_the_gate_lifts("nearest", 1e-3);
   const double nearest_fine = largest_change_as_the_gate_lifts("nearest", 1e-4);
   const double blended_coarse = largest_change_as_the_gate_lifts("blended", 1e-3);

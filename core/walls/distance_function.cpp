@@ -13,10 +13,13 @@
 //          wall region, gamma(d)).
 // Points outside the solid or beyond the support are left out. Where the rows of two segments
 // overlap (a corner), `corners` decides which count:
-//   nearest (default): a point counts for the segment nearest to it (each corner point once).
-//     The rows move with i, so a point that crosses the line where the nearest segment changes
-//     jumps in or out with its whole weight: i's wall number density jumps as it moves past a
-//     corner (by 1.06 of n0 = 6.54 beside the 25-degree toe of scenes/hydrostatic_slope.json).
+//   nearest (default): a point counts for the segment nearest to it among those whose line it
+//     lies behind, whose rows could hold it (each corner point once; a segment the point is in
+//     front of, such as the bed's surface running on under an obstacle standing on it, never
+//     takes it). The rows move with i, so a point that crosses the line where the nearest
+//     segment changes jumps in or out with its whole weight: i's wall number density jumps as
+//     it moves past a corner (by 1.06 of n0 = 6.54 beside the 25-degree toe of
+//     scenes/hydrostatic_slope.json).
 //   blended: a segment's rows fill a band one support deep behind it, reaching one band beyond
 //     its ends; a point p of segment s's rows carries the share c_s(p) / sum_t c_t(p) of its
 //     volume, c_t the coverage of p by the rows of segment t near i: 1 inside t's band, falling
@@ -34,6 +37,7 @@
 // to it, and its acceleration a_w).
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <vector>
 
 #include "core/io/scene.hpp"
@@ -121,10 +125,20 @@ class DistanceFunction final : public WallSampleModel {
     }
   }
 
-  // corners = nearest: 1 where segment s is the nearest to the point, else 0.
+  // corners = nearest: 1 where segment s is the nearest to the point among the segments whose
+  // line it lies behind (whose rows could hold it), else 0.
   double nearest_only(const Vec2& point, std::size_t s) const {
-    std::size_t nearest = 0;
-    geometry_.distance(point, &nearest);
+    const auto& segments = geometry_.segments();
+    double best = std::numeric_limits<double>::infinity();
+    std::size_t nearest = s;
+    for (std::size_t t = 0; t < segments.size(); ++t) {
+      if ((segments[t].a - point).dot(segments[t].normal) <= 0.0) continue;  // in front of t's line
+      const double d = geometry_.distance_to(point, t);
+      if (d < best) {
+        best = d;
+        nearest = t;
+      }
+    }
     return nearest == s ? 1.0 : 0.0;
   }
 
