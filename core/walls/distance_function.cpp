@@ -37,7 +37,7 @@
 // to it, and its acceleration a_w).
 #include <algorithm>
 #include <cmath>
-#include <limits>
+#include <optional>
 #include <vector>
 
 #include "core/io/scene.hpp"
@@ -105,9 +105,10 @@ class DistanceFunction final : public WallSampleModel {
       for (int m = -rows.rows; m <= rows.rows; ++m) {
         const Vec2 point = row + m * rows.step * tangent;
         if ((point - x).squaredNorm() >= context.support * context.support) continue;
-        if (!geometry_.inside_solid(point)) continue;
+        const std::optional<int> holder = geometry_.solid_holding(point);
+        if (!holder) continue;  // outside every solid
         const double weight = blended_corners_ ? share(point, rows, near) * surface_fade(point, rows, near)
-                                               : nearest_only(point, rows.segment);
+                                               : (geometry_.nearest_behind(point) == rows.segment ? 1.0 : 0.0);
         if (weight <= 0.0) continue;
         WallSample sample;
         sample.position = point;
@@ -117,29 +118,12 @@ class DistanceFunction final : public WallSampleModel {
         // Blended, the sample stands for the solid that holds it: a point of an obstacle
         // face's rows that lies in the bed is bed (at rest, no part of the obstacle's load).
         WallSegment solid = wall;
-        if (blended_corners_) solid.body = geometry_.solid_holding(point).value_or(wall.body);
+        if (blended_corners_) solid.body = *holder;
         sample.obstacle = solid.body;
         set_wall_motion(sample, solid);
         samples.samples.push_back(sample);
       }
     }
-  }
-
-  // corners = nearest: 1 where segment s is the nearest to the point among the segments whose
-  // line it lies behind (whose rows could hold it), else 0.
-  double nearest_only(const Vec2& point, std::size_t s) const {
-    const auto& segments = geometry_.segments();
-    double best = std::numeric_limits<double>::infinity();
-    std::size_t nearest = s;
-    for (std::size_t t = 0; t < segments.size(); ++t) {
-      if ((segments[t].a - point).dot(segments[t].normal) <= 0.0) continue;  // in front of t's line
-      const double d = geometry_.distance_to(point, t);
-      if (d < best) {
-        best = d;
-        nearest = t;
-      }
-    }
-    return nearest == s ? 1.0 : 0.0;
   }
 
   // corners = blended: the share of the point p of `rows` (of rows.segment) - its coverage by

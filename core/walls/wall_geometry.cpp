@@ -268,6 +268,20 @@ double WallGeometry::distance_to(const Vec2& x, std::size_t k) const {
   return (x - (s.a + t * along)).norm();
 }
 
+std::size_t WallGeometry::nearest_behind(const Vec2& x) const {
+  double best = std::numeric_limits<double>::infinity();
+  std::size_t nearest = segments_.size();
+  for (std::size_t k = 0; k < segments_.size(); ++k) {
+    if ((segments_[k].a - x).dot(segments_[k].normal) <= 0.0) continue;  // in front of its line
+    const double d = distance_to(x, k);
+    if (d < best) {
+      best = d;
+      nearest = k;
+    }
+  }
+  return nearest;
+}
+
 double WallGeometry::distance(const Vec2& x, std::size_t* nearest) const {
   double best = std::numeric_limits<double>::infinity();
   for (std::size_t k = 0; k < segments_.size(); ++k) {

@@ -79,6 +79,10 @@ class WallGeometry {
   // The solid that holds x: -1 for the tank's walls (which win where an obstacle overlaps them),
   // k for walls.obstacles[k] where the geometry puts it, none outside every solid.
   std::optional<int> solid_holding(const Vec2& x) const;
+  // The index of the nearest wall segment among those whose line x lies behind (on the solid's
+  // side of it), segments().size() if there is none: the segment whose virtual wall can hold
+  // the point x (core/walls/distance_function.cpp).
+  std::size_t nearest_behind(const Vec2& x) const;
   // Distance from x to the nearest wall segment, m; its index in *nearest if given.
   double distance(const Vec2& x, std::size_t* nearest = nullptr) const;
   // Distance from x to segment k, m.
