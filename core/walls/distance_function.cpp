@@ -13,23 +13,26 @@
 //          wall region, gamma(d)).
 // Points outside the solid or beyond the support are left out. Where the rows of two segments
 // overlap (a corner), `corners` decides which count:
-//   nearest (default): a point counts for the segment nearest to it among those whose line it
-//     lies behind, whose rows could hold it (each corner point once; a segment the point is in
-//     front of, such as the bed's surface running on under an obstacle standing on it, never
-//     takes it). The rows move with i, so a point that crosses the line where the nearest
-//     segment changes jumps in or out with its whole weight: i's wall number density jumps as
-//     it moves past a corner (by 1.06 of n0 = 6.54 beside the 25-degree toe of
-//     scenes/hydrostatic_slope.json).
-//   blended: a segment's rows fill a band one support deep behind it, reaching one band beyond
-//     its ends; a point p of segment s's rows carries the share c_s(p) / sum_t c_t(p) of its
-//     volume, c_t the coverage of p by the rows of segment t near i: 1 inside t's band, falling
-//     to 0 within half a point spacing at its faces and within a band beyond t's ends. A share
-//     goes continuously to 1 where p leaves the other rows, so i's wall sums are continuous as
-//     it moves past a corner the fluid sees as concave (the solid the union of the half-planes).
-//     At a convex corner the points of one face's rows leave the solid through the other face;
-//     they fade out linearly within half a point spacing of any other segment's surface, so they
-//     leave it with weight 0. On a straight wall every share is 1 and no point is that near
-//     another surface: Harada's rows exactly (docs/walls.md, "Distance function at corners").
+//   blended (default): a partition of unity. A point x of segment s's rows carries the share
+//     psi_s(x) / sum_u psi_u(x) of its volume over the segments u near i (partition_share):
+//     psi_u = c_u(x) prod_{t != u} f_t(x), c_u the coverage of x by u's rows (row_coverage:
+//     whole along the exposed part of u's surface, falling to 0 a band beyond it and, by the
+//     angle, towards its line there) and f_t the hand-over to t's rows within a row step of t's
+//     exposed surface (hand_over). The shares of the rows that meet at a point add up to 1, so on
+//     the lattice (where their points coincide) i's sums are the lattice's; near a face of the
+//     solid the face's rows take the whole share, so the points of other rows leave the solid
+//     through it with weight 0 (a convex corner); beyond a segment's exposed part its share
+//     falls to 0 towards its line, so points crossing that line inside the solid enter its
+//     rows continuously (a concave corner). Both hand-overs are shaped so that the first row's
+//     point value is its cell's mean, which keeps the volume of a corner on average over i's
+//     positions (docs/walls.md, "Distance function at corners").
+//   nearest: a point counts for the segment nearest to it among those whose line it lies
+//     behind, whose rows could hold it (each corner point once; a segment the point is in front
+//     of, such as the bed's surface running on under an obstacle standing on it, never takes
+//     it). The rows move with i, so a point that crosses the line where the nearest segment
+//     changes jumps in or out with its whole weight: i's wall number density jumps as it moves
+//     past a corner (by 1.06 of n0 = 6.54 beside the 25-degree toe of
+//     scenes/hydrostatic_slope.json), and MPS's pressure spikes there.
 // Each point carries i's own pressure extrapolated hydrostatically,
 // p_w = p_i + rho0 (g - a_w) . (x_w - x_i); the wall is at rest (no slip) or moves with the
 // mirror of i's velocity (free slip). The segments of a moving obstacle move with it
@@ -37,6 +40,7 @@
 // to it, and its acceleration a_w).
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <optional>
 #include <vector>
 
@@ -47,6 +51,8 @@
 
 namespace mps_lab {
 namespace {
+
+constexpr double kPi = 3.14159265358979323846;
 
 // The virtual rows of one segment for one particle: `rows` rows of `step` spacing (m) behind it.
 struct VirtualRows {
@@ -66,6 +72,7 @@ class DistanceFunction final : public WallSampleModel {
 
   void build_wall_samples(const WallContext& context, WallSampleList& samples) override {
     follow_moving_walls(context.particles);
+    if (blended_corners_) find_exposed_pieces();
     const ParticleSet& particles = context.particles;
     const double step = spacing_ / points_per_spacing_;
     const int rows = static_cast<int>(std::ceil(context.support / step));
@@ -107,7 +114,7 @@ class DistanceFunction final : public WallSampleModel {
         if ((point - x).squaredNorm() >= context.support * context.support) continue;
         const std::optional<int> holder = geometry_.solid_holding(point);
         if (!holder) continue;  // outside every solid
-        const double weight = blended_corners_ ? share(point, rows, near) * surface_fade(point, rows, near)
+        const double weight = blended_corners_ ? partition_share(point, rows, near)
                                                : (geometry_.nearest_behind(point) == rows.segment ? 1.0 : 0.0);
         if (weight <= 0.0) continue;
         WallSample sample;
@@ -126,48 +133,135 @@ class DistanceFunction final : public WallSampleModel {
     }
   }
 
-  // corners = blended: the share of the point p of `rows` (of rows.segment) - its coverage by
-  // those rows over the sum of its coverages by the same rows of every segment in `near`.
-  double share(const Vec2& p, const VirtualRows& rows, const std::vector<std::size_t>& near) const {
+  // corners = blended: the share of segment rows.segment at the row point x,
+  // psi_s(x) / sum_u psi_u(x) over the segments u near i, psi_u = c_u(x) prod_{t != u} f_t(x):
+  // c_u the coverage of x by u's rows (row_coverage), f_t = hand_over(distance to t's exposed
+  // surface, step): t's rows take over within a row step of its face. The shares of the rows
+  // that meet at a point add up to 1 (on the lattice their points coincide, so i's sums are the
+  // lattice's); next to a face t of the solid every other segment's share goes to 0, so the
+  // points of other rows leave the solid through t (a convex corner: an obstacle's top, the
+  // gate's bottom) with weight 0.
+  double partition_share(const Vec2& x, const VirtualRows& rows, const std::vector<std::size_t>& near) const {
+    const double band = rows.rows * rows.step;  // m
     double own = 0.0;
     double total = 0.0;
-    for (const std::size_t t : near) {
-      const double coverage = row_coverage(p, geometry_.segments()[t], rows.rows * rows.step, rows.step);
-      total += coverage;
-      if (t == rows.segment) own = coverage;
+    for (const std::size_t u : near) {
+      double psi = row_coverage(x, u, band, rows.step);
+      for (const std::size_t t : near) {
+        if (psi <= 0.0) break;
+        if (t != u) psi *= hand_over(distance_to_exposed(x, t), rows.step);
+      }
+      total += psi;
+      if (u == rows.segment) own = psi;
     }
     return total > 0.0 ? own / total : 0.0;
   }
 
-  // corners = blended: 1, falling linearly to 0 as p comes within half a row step of the surface
-  // of another segment in `near`. The rows of that segment have no point there (their first row
-  // is half a step deep), so the points of other rows fade out towards it and leave the solid,
-  // where they are cut, with weight 0: at a convex corner (an obstacle's top) the cut is
-  // continuous. On the lattice no row point lies nearer than half a step to another surface.
-  double surface_fade(const Vec2& p, const VirtualRows& rows, const std::vector<std::size_t>& near) const {
-    double fade = 1.0;
-    for (const std::size_t t : near) {
-      if (t != rows.segment) fade *= std::min(1.0, geometry_.distance_to(p, t) / (0.5 * rows.step));
+  // The factor f(d) by which rows give way within a width w (m) of a line: 0 on the line, 1 from
+  // w on, f = d / (2 w - d) between. With w one row step, where two segments' rows overlap that
+  // makes the share of the rows whose first (or last) row stands for the cell at the line
+  // 1 - d / (2 w), linear across that cell, so that row's point value is its cell's mean, and
+  // the points of the other rows, which slide along with i, add the rest: the overlap's volume
+  // is kept on average over i's positions (a linear f over half a step, tried first, lost 11-14 %
+  // of a box's buoyancy).
+  // The coverage by a segment's rows of a point beyond its end, seen from the end at the angle
+  // alpha (rad) from the segment's line: 0 up to 30 degrees, 1 from 60, linear between (1 along
+  // the segment, alpha = 90 degrees). Where two segments meet at a concave corner their shares
+  // are then functions of the angle alone, 0 near the other's line, and each row's share, summed
+  // along the row (the direction in which its points slide with i), grows linearly with the
+  // row's depth: the row's point stands for its cell exactly, on average over i's positions.
+  static double cone(double alpha) { return std::clamp((alpha - kPi / 6.0) / (kPi / 6.0), 0.0, 1.0); }
+
+  static double hand_over(double d, double w) { return d >= w ? 1.0 : d / (2.0 * w - d); }
+
+  // How fully the rows of segment `k` cover the point x (0 to 1). The rows fill the band of
+  // depth `band` (m) behind the segment's line; they cover fully along an exposed piece of its
+  // surface (find_exposed_pieces) and reach `band` beyond each piece's ends.
+  //   - Along a piece the coverage is whole from the surface (the first row stands for the cell
+  //     from the surface down: there the segment's share takes over from every other, a face of
+  //     the solid) and hands over to other rows within the last row of the band (hand_over: the
+  //     rows that go on there take the share linearly across that row's cell).
+  //   - Beyond a piece's end, by e (m): falling linearly to 0 at e = band, so a segment's rows
+  //     enter and leave i's sums continuously; and a function of the angle from the end (cone),
+  //     0 near the line, so that where the solid runs on across it (a concave corner: the side
+  //     wall's slab below the bed's surface, the bed under an obstacle) a point crossing the line
+  //     enters the segment's rows continuously.
+  // The largest over the segment's pieces; 0 for a segment with none (buried whole).
+  double row_coverage(const Vec2& x, std::size_t k, double band, double step) const {
+    const WallSegment& segment = geometry_.segments()[k];
+    const double depth = (segment.a - x).dot(segment.normal);  // m, > 0 behind the segment's line
+    if (depth <= 0.0 || depth >= band) return 0.0;
+    const Vec2 along = (segment.b - segment.a).normalized();
+    const double position = (x - segment.a).dot(along);  // m from a towards b
+    double coverage = 0.0;
+    for (const ExposedPiece& piece : exposed_[k]) {
+      const double beyond_end = std::max({piece.from - position, position - piece.to, 0.0});
+      const double front = cone(std::atan2(depth, beyond_end));
+      coverage = std::max(coverage, front * std::max(0.0, 1.0 - beyond_end / band));
     }
-    return fade;
+    return hand_over(band - depth, step) * coverage;
   }
 
-  // How fully a segment's rows cover the point p (0 to 1). The rows fill the band of depth
-  // `band` (m) behind the segment and reach `band` beyond each of its ends; the coverage rises
-  // from 0 at either face of the band to 1 half a row `step` inside it, and falls from 1 at an
-  // end of the segment to 0 a band beyond it, so a segment's rows enter and leave i's sums
-  // continuously.
-  static double row_coverage(const Vec2& p, const WallSegment& segment, double band, double step) {
-    const double depth = (segment.a - p).dot(segment.normal);  // m, > 0 behind the segment's line
-    const double across = std::clamp(std::min(depth, band - depth) / (0.5 * step), 0.0, 1.0);
-    const Vec2 along = segment.b - segment.a;
-    const double length = along.norm();
-    const double position = (p - segment.a).dot(along) / length;  // m from a towards b
-    const double beyond_end = std::max({-position, position - length, 0.0});
-    return across * std::clamp(1.0 - beyond_end / band, 0.0, 1.0);
+  // Distance from x to the exposed pieces of segment k, m (infinite for a segment buried whole).
+  double distance_to_exposed(const Vec2& x, std::size_t k) const {
+    const WallSegment& segment = geometry_.segments()[k];
+    const Vec2 along = (segment.b - segment.a).normalized();
+    const double position = (x - segment.a).dot(along);
+    double nearest = std::numeric_limits<double>::infinity();
+    for (const ExposedPiece& piece : exposed_[k]) {
+      const Vec2 foot = segment.a + std::clamp(position, piece.from, piece.to) * along;
+      nearest = std::min(nearest, (x - foot).norm());
+    }
+    return nearest;
   }
 
-  double spacing_;  // l0, m
+  // corners = blended: the parts of each segment's surface that face the fluid. A segment is
+  // cut where another segment meets it; a part with a solid just in front of its middle is
+  // buried (an obstacle's face below the bed's surface, the bed under an obstacle standing on
+  // it) and is no face of the solid: its rows hand over to nobody there, and the segments that
+  // meet at the cut meet as a corner.
+  void find_exposed_pieces() {
+    const std::vector<WallSegment>& segments = geometry_.segments();
+    exposed_.assign(segments.size(), {});
+    for (std::size_t k = 0; k < segments.size(); ++k) {
+      const WallSegment& segment = segments[k];
+      const double length = (segment.b - segment.a).norm();
+      const Vec2 along = (segment.b - segment.a) / length;
+      std::vector<double> cuts = {0.0, length};
+      for (std::size_t other = 0; other < segments.size(); ++other) {
+        if (other != k) add_crossing(segment, segments[other], cuts);
+      }
+      std::sort(cuts.begin(), cuts.end());
+      for (std::size_t c = 0; c + 1 < cuts.size(); ++c) {
+        if (cuts[c + 1] - cuts[c] <= 1e-9 * spacing_) continue;
+        const Vec2 probe = segment.a + 0.5 * (cuts[c] + cuts[c + 1]) * along + 1e-6 * spacing_ * segment.normal;
+        if (geometry_.solid_holding(probe)) continue;  // buried
+        std::vector<ExposedPiece>& pieces = exposed_[k];
+        if (!pieces.empty() && pieces.back().to == cuts[c]) {
+          pieces.back().to = cuts[c + 1];
+        } else {
+          pieces.push_back({cuts[c], cuts[c + 1]});
+        }
+      }
+    }
+  }
+
+  // Where segment `other` meets `segment` (m along `segment` from its end a), if it does.
+  static void add_crossing(const WallSegment& segment, const WallSegment& other, std::vector<double>& cuts) {
+    const Vec2 along = segment.b - segment.a, across = other.b - other.a;
+    const double denominator = along.x() * across.y() - along.y() * across.x();
+    if (std::fabs(denominator) < 1e-300) return;  // parallel
+    const Vec2 w = other.a - segment.a;
+    const double t = (w.x() * across.y() - w.y() * across.x()) / denominator;  // along `segment`
+    const double u = (w.x() * along.y() - w.y() * along.x()) / denominator;    // along `other`
+    if (t > 0.0 && t < 1.0 && u >= 0.0 && u <= 1.0) cuts.push_back(t * along.norm());
+  }
+
+  struct ExposedPiece {
+    double from, to;  // m along the segment from its end a
+  };
+  std::vector<std::vector<ExposedPiece>> exposed_;  // per segment (corners = blended)
+  double spacing_;                                  // l0, m
   int points_per_spacing_;
   bool free_slip_;
   bool blended_corners_;
@@ -192,9 +286,10 @@ void mps_lab_register_wall_treatment_distance_function(mps_lab::WallTreatmentReg
       string_parameter("velocity", "no_slip",
                        "wall velocity seen by the fluid: no_slip (0) or free_slip (mirror of u_i)")
           .one_of({"no_slip", "free_slip"}),
-      string_parameter("corners", "nearest",
-                       "where two segments' virtual rows overlap: nearest (a point counts for its nearest segment) or "
-                       "blended (each counts with its share of the rows covering it: continuous past every corner)")
+      string_parameter("corners", "blended",
+                       "where two segments' virtual rows overlap: blended (each point counts with its share of a "
+                       "partition of unity: continuous past every corner) or nearest (a point counts for its nearest "
+                       "segment: the sums jump as i passes a corner)")
           .one_of({"nearest", "blended"}),
   };
   info.parameters.push_back(crossing_parameter("none"));
