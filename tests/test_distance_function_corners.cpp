@@ -97,6 +97,23 @@ double largest_change_to_the_foot(const std::string& corners, double step) {
   });
 }
 
+// The largest change of a probe (one of the above) under each corner rule at a coarse step and
+// at one ten times finer: a continuous function changes by at most its slope times the step, so
+// its largest change shrinks tenfold; a jump keeps its size.
+struct ChangesByRule {
+  double nearest_coarse, nearest_fine, blended_coarse, blended_fine;
+};
+
+template <typename Probe>
+ChangesByRule changes_by_rule(Probe probe, double coarse_step, const char* steps) {
+  const ChangesByRule c{probe("nearest", coarse_step), probe("nearest", 0.1 * coarse_step),
+                        probe("blended", coarse_step), probe("blended", 0.1 * coarse_step)};
+  WARN("largest change of the wall number density per step, " << steps << ": nearest " << c.nearest_coarse << " / "
+                                                              << c.nearest_fine << ", blended " << c.blended_coarse
+                                                              << " / " << c.blended_fine);
+  return c;
+}
+
 }  // namespace
 
 TEST_CASE("distance function corners: the wall number density is continuous past a convex corner only when blended",
@@ -104,33 +121,21 @@ TEST_CASE("distance function corners: the wall number density is continuous past
   // As above, by step refinement. Measured: nearest 0.51 at 1 mm and 0.49 at 0.1 mm steps (the
   // gate's bottom passing the particle's rows), blended 0.101 and 0.011: the points of the face's
   // rows hand over to the gate bottom's before they leave the solid.
-  const double nearest_coarse = largest_change_as_the_gate_lifts("nearest", 1e-3);
-  const double nearest_fine = largest_change_as_the_gate_lifts("nearest", 1e-4);
-  const double blended_coarse = largest_change_as_the_gate_lifts("blended", 1e-3);
-  const double blended_fine = largest_change_as_the_gate_lifts("blended", 1e-4);
-  WARN("largest change of the wall number density per step of the lift, 1 mm / 0.1 mm: nearest "
-       << nearest_coarse << " / " << nearest_fine << ", blended " << blended_coarse << " / " << blended_fine);
-  CHECK(nearest_fine > 0.5 * nearest_coarse);
-  CHECK(blended_fine < 0.2 * blended_coarse);
+  const ChangesByRule c = changes_by_rule(largest_change_as_the_gate_lifts, 1e-3, "1 mm / 0.1 mm of lift");
+  CHECK(c.nearest_fine > 0.5 * c.nearest_coarse);
+  CHECK(c.blended_fine < 0.2 * c.blended_coarse);
 }
 
 TEST_CASE("distance function corners: the wall number density is continuous past a concave corner only when blended",
           "[walls][polygon]") {
-  // A continuous function changes by at most its slope times the step, so its largest change
-  // shrinks tenfold with a tenfold finer step; a jump keeps its size. Measured (n0 = 6.54):
-  // nearest 1.064 at 0.5 mm and at 0.05 mm (a point of the slope's rows entering at x = 0.1445 m
+  // Measured (n0 = 6.54): nearest 1.064 at 0.5 mm and at 0.05 mm (a point of the slope's rows entering at x = 0.1445 m
   // and leaving at 0.156 m, others of 0.16-0.48), blended 0.077 and 0.0078 (with the coverage
   // whole up to the line beyond a segment's end, not by the angle, 0.25 at both steps).
-  const double nearest_coarse = largest_change_to_the_toe("nearest", 5e-4),
-               nearest_fine = largest_change_to_the_toe("nearest", 5e-5);
-  const double blended_coarse = largest_change_to_the_toe("blended", 5e-4),
-               blended_fine = largest_change_to_the_toe("blended", 5e-5);
-  WARN("largest change of the wall number density per step, 0.5 mm / 0.05 mm: nearest "
-       << nearest_coarse << " / " << nearest_fine << ", blended " << blended_coarse << " / " << blended_fine);
-  CHECK(nearest_fine > 0.5 * nearest_coarse);  // a jump
-  CHECK(nearest_fine > 0.5);
-  CHECK(blended_fine < 0.2 * blended_coarse);  // continuous: 0.1 for a function with a bounded slope
-  CHECK(blended_coarse < 0.1);
+  const ChangesByRule c = changes_by_rule(largest_change_to_the_toe, 5e-4, "0.5 mm / 0.05 mm");
+  CHECK(c.nearest_fine > 0.5 * c.nearest_coarse);  // a jump
+  CHECK(c.nearest_fine > 0.5);
+  CHECK(c.blended_fine < 0.2 * c.blended_coarse);  // continuous: 0.1 for a function with a bounded slope
+  CHECK(c.blended_coarse < 0.1);
 }
 
 TEST_CASE("distance function corners: the wall number density is continuous past an obstacle's foot only when blended",
@@ -141,15 +146,10 @@ TEST_CASE("distance function corners: the wall number density is continuous past
   // 0.456 at 0.5 mm and 0.482 at 0.05 mm steps (a jump at x = 0.4625 m), blended 0.053 and 0.0057;
   // with the buried parts taken for faces, blended jumps by 0.33-0.36 there (the bed's rows
   // handing over to the face's below the bed's surface, where the face's rows stop).
-  const double nearest_coarse = largest_change_to_the_foot("nearest", 5e-4),
-               nearest_fine = largest_change_to_the_foot("nearest", 5e-5);
-  const double blended_coarse = largest_change_to_the_foot("blended", 5e-4),
-               blended_fine = largest_change_to_the_foot("blended", 5e-5);
-  WARN("largest change of the wall number density per step, 0.5 mm / 0.05 mm: nearest "
-       << nearest_coarse << " / " << nearest_fine << ", blended " << blended_coarse << " / " << blended_fine);
-  CHECK(nearest_fine > 0.5 * nearest_coarse);  // a jump
-  CHECK(blended_fine < 0.2 * blended_coarse);  // continuous
-  CHECK(blended_coarse < 0.1);
+  const ChangesByRule c = changes_by_rule(largest_change_to_the_foot, 5e-4, "0.5 mm / 0.05 mm");
+  CHECK(c.nearest_fine > 0.5 * c.nearest_coarse);  // a jump
+  CHECK(c.blended_fine < 0.2 * c.blended_coarse);  // continuous
+  CHECK(c.blended_coarse < 0.1);
 }
 
 TEST_CASE("distance function corners: blended reproduces the lattice number density at rest at the tank's corners",
