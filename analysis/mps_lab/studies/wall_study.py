@@ -13,8 +13,8 @@ one `mps_lab run --method=M SCENE` into <out>/cases/<scene>__<method>__<model>/;
 than the default is named with `--set methods.M.wall_treatments.MODEL={}` and the default is
 switched off (`--set methods.M.wall_treatments.DEFAULT.enabled=false`, for a scene that names
 it); the scene's other treatments stay (the MPS clamps, ...). A variant of a model,
-`--models distance_function:corners=blended`, sets its parameters
-(`methods.M.wall_treatments.MODEL={"corners":"blended"}`) and is a model of its own in the
+`--models distance_function:corners=nearest`, sets its parameters
+(`methods.M.wall_treatments.MODEL={"corners":"nearest"}`) and is a model of its own in the
 table and the figure. Every
 case runs with stability.on_divergence=continue: a wall penetration is counted, not a stop.
 Scenes: dambreak (scenes/dambreak.json, T = 2 s), hydrostatic (scenes/hydrostatic.json to
