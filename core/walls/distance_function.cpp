@@ -162,17 +162,19 @@ class DistanceFunction final : public WallSampleModel {
   // makes the share of the rows whose first (or last) row stands for the cell at the line
   // 1 - d / (2 w), linear across that cell, so that row's point value is its cell's mean, and
   // the points of the other rows, which slide along with i, add the rest: the overlap's volume
-  // is kept on average over i's positions (a linear f over half a step, tried first, lost 11-14 %
-  // of a box's buoyancy).
+  // is kept on average over i's positions (a fade linear over half a step lost 2-14 % of a
+  // submerged box's buoyancy, docs/walls.md).
+  static double hand_over(double d, double w) { return d >= w ? 1.0 : d / (2.0 * w - d); }
+
   // The coverage by a segment's rows of a point beyond its end, seen from the end at the angle
   // alpha (rad) from the segment's line: 0 up to 30 degrees, 1 from 60, linear between (1 along
   // the segment, alpha = 90 degrees). Where two segments meet at a concave corner their shares
   // are then functions of the angle alone, 0 near the other's line, and each row's share, summed
   // along the row (the direction in which its points slide with i), grows linearly with the
-  // row's depth: the row's point stands for its cell exactly, on average over i's positions.
+  // row's depth: the row's point stands for its cell, on average over i's positions, wherever
+  // the band reaches past the cone (near the apex only roughly: with q = 1 a particle close to
+  // both walls reads 3.4 % high there, docs/walls.md).
   static double cone(double alpha) { return std::clamp((alpha - kPi / 6.0) / (kPi / 6.0), 0.0, 1.0); }
-
-  static double hand_over(double d, double w) { return d >= w ? 1.0 : d / (2.0 * w - d); }
 
   // How fully the rows of segment `k` cover the point x (0 to 1). The rows fill the band of
   // depth `band` (m) behind the segment's line; they cover fully along an exposed piece of its
