@@ -68,11 +68,12 @@ class DistanceFunction final : public WallSampleModel {
         spacing_(setup.scene.particle_spacing),
         points_per_spacing_(static_cast<int>(setup.parameters.integer("quadrature_points"))),
         free_slip_(setup.parameters.string("velocity") == "free_slip"),
-        blended_corners_(setup.parameters.string("corners") == "blended") {}
+        blended_corners_(setup.parameters.string("corners") == "blended") {
+    if (blended_corners_) find_exposed_pieces();
+  }
 
   void build_wall_samples(const WallContext& context, WallSampleList& samples) override {
     follow_moving_walls(context.particles);
-    if (blended_corners_) find_exposed_pieces();
     const ParticleSet& particles = context.particles;
     const double step = spacing_ / points_per_spacing_;
     const int rows = static_cast<int>(std::ceil(context.support / step));
@@ -143,16 +144,18 @@ class DistanceFunction final : public WallSampleModel {
   // gate's bottom) with weight 0.
   double partition_share(const Vec2& x, const VirtualRows& rows, const std::vector<std::size_t>& near) const {
     const double band = rows.rows * rows.step;  // m
+    hand_overs_.assign(near.size(), -1.0);      // f_t of near[k], computed when first needed
     double own = 0.0;
     double total = 0.0;
-    for (const std::size_t u : near) {
-      double psi = row_coverage(x, u, band, rows.step);
-      for (const std::size_t t : near) {
-        if (psi <= 0.0) break;
-        if (t != u) psi *= hand_over(distance_to_exposed(x, t), rows.step);
+    for (std::size_t j = 0; j < near.size(); ++j) {
+      double psi = row_coverage(x, near[j], band, rows.step);
+      for (std::size_t k = 0; k < near.size() && psi > 0.0; ++k) {
+        if (k == j) continue;
+        if (hand_overs_[k] < 0.0) hand_overs_[k] = hand_over(distance_to_exposed(x, near[k]), rows.step);
+        psi *= hand_overs_[k];
       }
       total += psi;
-      if (u == rows.segment) own = psi;
+      if (near[j] == rows.segment) own = psi;
     }
     return total > 0.0 ? own / total : 0.0;
   }
@@ -217,6 +220,11 @@ class DistanceFunction final : public WallSampleModel {
     return nearest;
   }
 
+  // Blended, the exposed pieces follow the moving obstacles (WallSampleModel::follow_moving_walls).
+  void geometry_moved() override {
+    if (blended_corners_) find_exposed_pieces();
+  }
+
   // corners = blended: the parts of each segment's surface that face the fluid. A segment is
   // cut where another segment meets it; a part with a solid just in front of its middle is
   // buried (an obstacle's face below the bed's surface, the bed under an obstacle standing on
@@ -263,6 +271,7 @@ class DistanceFunction final : public WallSampleModel {
     double from, to;  // m along the segment from its end a
   };
   std::vector<std::vector<ExposedPiece>> exposed_;  // per segment (corners = blended)
+  mutable std::vector<double> hand_overs_;          // partition_share's f_t of each near segment, reused
   double spacing_;                                  // l0, m
   int points_per_spacing_;
   bool free_slip_;
