@@ -258,13 +258,9 @@ class DistanceFunction final : public WallSampleModel {
 
   // Where segment `other` meets `segment` (m along `segment` from its end a), if it does.
   static void add_crossing(const WallSegment& segment, const WallSegment& other, std::vector<double>& cuts) {
-    const Vec2 along = segment.b - segment.a, across = other.b - other.a;
-    const double denominator = along.x() * across.y() - along.y() * across.x();
-    if (std::fabs(denominator) < 1e-300) return;  // parallel
-    const Vec2 w = other.a - segment.a;
-    const double t = (w.x() * across.y() - w.y() * across.x()) / denominator;  // along `segment`
-    const double u = (w.x() * along.y() - w.y() * along.x()) / denominator;    // along `other`
-    if (t > 0.0 && t < 1.0 && u >= 0.0 && u <= 1.0) cuts.push_back(t * along.norm());
+    const Vec2 along = segment.b - segment.a;
+    if (const auto t = crossing_parameter(segment.a, along, other.a, other.b - other.a))
+      cuts.push_back(*t * along.norm());
   }
 
   struct ExposedPiece {

@@ -136,6 +136,16 @@ Vec2 WallGeometry::wall_acceleration(const WallSegment& segment, const Vec2& x) 
 // samples built behind the covered piece would leave a hole inside the polygon next to it:
 // core/walls/distance_function.cpp counts each virtual point by its nearest segment.) Box
 // obstacles leave the sides whole, as before polygons existed.
+std::optional<double> crossing_parameter(const Vec2& a, const Vec2& along, const Vec2& p, const Vec2& across) {
+  const double denominator = along.x() * across.y() - along.y() * across.x();
+  if (std::fabs(denominator) < 1e-300) return std::nullopt;  // parallel: no crossing point
+  const Vec2 w = p - a;
+  const double t = (w.x() * across.y() - w.y() * across.x()) / denominator;  // along a + t along
+  const double u = (w.x() * along.y() - w.y() * along.x()) / denominator;    // along p + u across
+  if (t > 0.0 && t < 1.0 && u >= 0.0 && u <= 1.0) return t;
+  return std::nullopt;
+}
+
 std::vector<WallSegment> WallGeometry::split_tank_sides_at_polygons(const std::vector<WallSegment>& sides) const {
   std::vector<WallSegment> pieces;
   for (const WallSegment& side : sides) {
@@ -147,13 +157,9 @@ std::vector<WallSegment> WallGeometry::split_tank_sides_at_polygons(const std::v
     std::vector<double> cuts = {0.0, 1.0};
     for (const Polygon& polygon : polygons_) {
       for (std::size_t e = 0; e < polygon.size(); ++e) {
-        const Vec2 p = polygon[e], q = polygon[(e + 1) % polygon.size()] - p;
-        const double denominator = along.x() * q.y() - along.y() * q.x();
-        if (std::fabs(denominator) < 1e-300) continue;  // parallel: no crossing point
-        const Vec2 w = p - side.a;
-        const double t = (w.x() * q.y() - w.y() * q.x()) / denominator;
-        const double u = (w.x() * along.y() - w.y() * along.x()) / denominator;
-        if (t > 0.0 && t < 1.0 && u >= 0.0 && u <= 1.0) cuts.push_back(t);
+        const Vec2 p = polygon[e];
+        if (const auto t = crossing_parameter(side.a, along, p, polygon[(e + 1) % polygon.size()] - p))
+          cuts.push_back(*t);
       }
     }
     if (cuts.size() == 2) {  // no polygon crosses it: whole, to the bit, unless one covers it all

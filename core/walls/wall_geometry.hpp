@@ -40,6 +40,10 @@ struct WallSegment {
   int body = -1;               // -1: the tank; k >= 0: walls.obstacles[k]
 };
 
+// Where the segment p + u across (u in [0, 1]) crosses the segment a + t along strictly inside it:
+// t in (0, 1), none if they do not cross or are parallel (a wall segment cut where another meets it).
+std::optional<double> crossing_parameter(const Vec2& a, const Vec2& along, const Vec2& p, const Vec2& across);
+
 enum class MovingObstacles {
   Excluded,  // the fixed walls only
   Included,  // moving obstacles too, where move_obstacles last put them (at rest until then)
