@@ -64,8 +64,12 @@ class WallGeometry {
   // (of the solid moving with it): the rigid motion of its obstacle's pose, zero for a fixed wall.
   Vec2 wall_velocity(const WallSegment& segment, const Vec2& x) const;
   Vec2 wall_acceleration(const WallSegment& segment, const Vec2& x) const;
-  bool moves(const WallSegment& segment) const {
-    return segment.body >= 0 && !moving_pose_.empty() && moving_[static_cast<std::size_t>(segment.body)];
+  bool moves(const WallSegment& segment) const { return !moving_pose_.empty() && can_move(segment); }
+  // Whether the segment belongs to an obstacle that moves (walls.obstacles[k].motion), wherever
+  // it is now: false for the tank and fixed obstacles, whose segments never part.
+  bool can_move(const WallSegment& segment) const {
+    return segment.body >= 0 && static_cast<std::size_t>(segment.body) < moving_.size() &&
+           moving_[static_cast<std::size_t>(segment.body)];
   }
   double surface_offset() const { return half_spacing_; }  // l0 / 2, m
 
