@@ -60,16 +60,23 @@ double largest_change(const Scene& scene, double end, double step, ParticlesAt p
   return largest;
 }
 
+// A lone particle moved along the straight path from + s direction, s = 0 to `length` m in steps
+// of `step` m, on `scene_name` with the distance function's corner rule `corners`.
+double largest_change_along(const char* scene_name, const std::string& corners, Vec2 from, Vec2 direction,
+                            double length, double step) {
+  const Scene scene = load(scene_name, {distance_function(corners)});
+  return largest_change(scene, length, step, [&](double s) {
+    ParticleSet particles;
+    particles.add(from + s * direction, Vec2::Zero(), ParticleType::Fluid);
+    return particles;
+  });
+}
+
 // Along the path y = 0.025 m (half a spacing above the bed's surface) of
 // scenes/hydrostatic_slope.json, x from 0.05 to 0.16 m (the slope's toe is at x = 0.15 m on the
 // bed's surface), in steps of `step` m.
 double largest_change_to_the_toe(const std::string& corners, double step) {
-  const Scene scene = load("hydrostatic_slope.json", {distance_function(corners)});
-  return largest_change(scene, 0.11, step, [](double s) {
-    ParticleSet particles;
-    particles.add(Vec2(0.05 + s, 0.025), Vec2::Zero(), ParticleType::Fluid);
-    return particles;
-  });
+  return largest_change_along("hydrostatic_slope.json", corners, Vec2(0.05, 0.025), Vec2(1.0, 0.0), 0.11, step);
 }
 
 // A particle at the foot of the gate of scenes/dambreak_gate.json (x = 0.225 m, y = 0.025 m: half
@@ -91,28 +98,23 @@ double largest_change_as_the_gate_lifts(const std::string& corners, double step)
 // it at 0.475 m), in steps of `step` m: a concave corner where the bed's surface runs on under the
 // obstacle, buried there.
 double largest_change_to_the_foot(const std::string& corners, double step) {
-  const Scene scene = load("dambreak_obstacle.json", {distance_function(corners)});
-  return largest_change(scene, 0.175, step, [](double s) {
-    ParticleSet particles;
-    particles.add(Vec2(0.3 + s, 0.025), Vec2::Zero(), ParticleType::Fluid);
-    return particles;
-  });
+  return largest_change_along("dambreak_obstacle.json", corners, Vec2(0.3, 0.025), Vec2(1.0, 0.0), 0.175, step);
 }
 
 // The largest change of a probe (one of the above) under each corner rule at a coarse step and
 // at one ten times finer: a continuous function changes by at most its slope times the step, so
 // its largest change shrinks tenfold; a jump keeps its size.
 struct ChangesByRule {
-  double nearest_coarse, nearest_fine, blended_coarse, blended_fine;
+  double nearest_coarse, nearest_fine, rule_coarse, rule_fine;  // rule: blended, or the one asked for
 };
 
 template <typename Probe>
-ChangesByRule changes_by_rule(Probe probe, double coarse_step, const char* steps) {
-  const ChangesByRule c{probe("nearest", coarse_step), probe("nearest", 0.1 * coarse_step),
-                        probe("blended", coarse_step), probe("blended", 0.1 * coarse_step)};
+ChangesByRule changes_by_rule(Probe probe, double coarse_step, const char* steps, const char* rule = "blended") {
+  const ChangesByRule c{probe("nearest", coarse_step), probe("nearest", 0.1 * coarse_step), probe(rule, coarse_step),
+                        probe(rule, 0.1 * coarse_step)};
   WARN("largest change of the wall number density per step, " << steps << ": nearest " << c.nearest_coarse << " / "
-                                                              << c.nearest_fine << ", blended " << c.blended_coarse
-                                                              << " / " << c.blended_fine);
+                                                              << c.nearest_fine << ", " << rule << " " << c.rule_coarse
+                                                              << " / " << c.rule_fine);
   return c;
 }
 
@@ -148,7 +150,7 @@ TEST_CASE("distance function corners: the wall number density is continuous past
   // rows hand over to the gate bottom's before they leave the solid.
   const ChangesByRule c = changes_by_rule(largest_change_as_the_gate_lifts, 1e-3, "1 mm / 0.1 mm of lift");
   CHECK(c.nearest_fine > 0.5 * c.nearest_coarse);
-  CHECK(c.blended_fine < 0.2 * c.blended_coarse);
+  CHECK(c.rule_fine < 0.2 * c.rule_coarse);
 }
 
 TEST_CASE("distance function corners: the wall number density is continuous past a concave corner only when blended",
@@ -159,8 +161,8 @@ TEST_CASE("distance function corners: the wall number density is continuous past
   const ChangesByRule c = changes_by_rule(largest_change_to_the_toe, 5e-4, "0.5 mm / 0.05 mm");
   CHECK(c.nearest_fine > 0.5 * c.nearest_coarse);  // a jump
   CHECK(c.nearest_fine > 0.5);
-  CHECK(c.blended_fine < 0.2 * c.blended_coarse);  // continuous: 0.1 for a function with a bounded slope
-  CHECK(c.blended_coarse < 0.1);
+  CHECK(c.rule_fine < 0.2 * c.rule_coarse);  // continuous: 0.1 for a function with a bounded slope
+  CHECK(c.rule_coarse < 0.1);
 }
 
 TEST_CASE("distance function corners: the wall number density is continuous past an obstacle's foot only when blended",
@@ -173,8 +175,8 @@ TEST_CASE("distance function corners: the wall number density is continuous past
   // handing over to the face's below the bed's surface, where the face's rows stop).
   const ChangesByRule c = changes_by_rule(largest_change_to_the_foot, 5e-4, "0.5 mm / 0.05 mm");
   CHECK(c.nearest_fine > 0.5 * c.nearest_coarse);  // a jump
-  CHECK(c.blended_fine < 0.2 * c.blended_coarse);  // continuous
-  CHECK(c.blended_coarse < 0.1);
+  CHECK(c.rule_fine < 0.2 * c.rule_coarse);        // continuous
+  CHECK(c.rule_coarse < 0.1);
 }
 
 TEST_CASE("distance function corners: lattice is continuous into a lattice corner and at a narrow foot", "[walls]") {
@@ -189,12 +191,7 @@ TEST_CASE("distance function corners: lattice is continuous into a lattice corne
   // 0.053 / 0.0057 (nearest jumps by 0.16 on the diagonal and 0.53 at the box's foot).
   const auto along = [](const char* scene_name, Vec2 from, Vec2 direction, double length) {
     return [=](const std::string& corners, double step) {
-      const Scene scene = load(scene_name, {distance_function(corners == "blended" ? "lattice" : corners)});
-      return largest_change(scene, length, step, [&](double s) {
-        ParticleSet particles;
-        particles.add(from + s * direction, Vec2::Zero(), ParticleType::Fluid);
-        return particles;
-      });
+      return largest_change_along(scene_name, corners, from, direction, length, step);
     };
   };
   const Vec2 diagonal = Vec2(-1.0, -1.0).normalized();
@@ -202,8 +199,8 @@ TEST_CASE("distance function corners: lattice is continuous into a lattice corne
                            along("hydrostatic.json", Vec2(0.1, 0.1), diagonal, 0.075 * std::sqrt(2.0)),
                            along("hydrostatic_box.json", Vec2(0.15, 0.06), Vec2(0.6, -0.8), 0.045),
                            along("dambreak_obstacle.json", Vec2(0.3, 0.025), Vec2(1.0, 0.0), 0.175)}) {
-    const ChangesByRule c = changes_by_rule(path, 5e-4, "0.5 mm / 0.05 mm");
-    CHECK(c.blended_fine < 0.2 * c.blended_coarse);  // continuous
+    const ChangesByRule c = changes_by_rule(path, 5e-4, "0.5 mm / 0.05 mm", "lattice");
+    CHECK(c.rule_fine < 0.2 * c.rule_coarse);  // continuous
   }
 }
 
@@ -238,14 +235,14 @@ TEST_CASE("distance function corners: blended reproduces the lattice number dens
     for (const char* corners : {"blended", "lattice"}) {
       INFO(name << ", corners " << corners);
       const Scene reference_scene = load(name);
-      const Scene blended_scene = load(name, {distance_function(corners)});
+      const Scene distance_scene = load(name, {distance_function(corners)});
       const Simulation reference(reference_scene, mps);
-      const Simulation blended(blended_scene, mps);
-      REQUIRE(blended.particles().count(ParticleType::Fluid) == reference.particles().count(ParticleType::Fluid));
+      const Simulation distance(distance_scene, mps);
+      REQUIRE(distance.particles().count(ParticleType::Fluid) == reference.particles().count(ParticleType::Fluid));
       double worst = 0.0;
       for (std::size_t i = 0; i < reference.particles().size(); ++i) {  // fluid comes first, in the same order
         if (reference.particles().type[i] != ParticleType::Fluid) continue;
-        worst = std::max(worst, std::fabs(blended.particles().field("number_density")[i] -
+        worst = std::max(worst, std::fabs(distance.particles().field("number_density")[i] -
                                           reference.particles().field("number_density")[i]));
       }
       CHECK(worst < 1e-12);
