@@ -300,3 +300,26 @@ TEST_CASE("MPS dam break to 2 s with each boundary model: no fluid through a wal
     }
   }
 }
+
+TEST_CASE("MPS with wall samples: a lone particle whose walls carry its own pressure is a droplet, P = 0",
+          "[mps][walls]") {
+  // One fluid particle 0.1 l0 from both walls in the bottom-left corner of scenes/hydrostatic.json.
+  // Its n* comes from the walls alone and exceeds beta n0, so it is no free-surface particle, but
+  // no neighbour carries a pressure: with dummy_layers and distance_function every sample carries
+  // its own (a Neumann wall), so its PPE row has no coupling at all. P = 0, exactly. (The row
+  // once kept its source with a unit diagonal: P = b_i, here 6.4e7 Pa with dummy_layers and 1.4e8
+  // Pa with the distance function; the 104 MPa and 224 MPa sensor peaks of the obstacle dam break
+  // with dummy_layers and with corners = lattice, docs/methods/mps.md.)
+  for (const std::string model : {"dummy_layers", "distance_function"}) {
+    INFO("boundary model " << model);
+    const Scene scene = load("hydrostatic.json", {with_boundary("mps", model, kWallMeasuresOff),
+                                                  R"(fluid_blocks=[{"min": [0.0, 0.0], "max": [0.05, 0.05]}])"});
+    Simulation simulation(scene, *registries().methods.find("mps"));
+    REQUIRE(simulation.particles().count(ParticleType::Fluid) == 1);
+    const double l0 = scene.particle_spacing;
+    simulation.particles().position[0] = Vec2(0.0125 + 0.1 * l0, 0.0125 + 0.1 * l0);
+    simulation.advance();
+    CHECK(simulation.particles().field("free_surface")[0] == 0.0);  // interior by its n*
+    CHECK(simulation.particles().pressure[0] == 0.0);
+  }
+}

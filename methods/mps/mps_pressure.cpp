@@ -70,13 +70,18 @@ void PressurePoissonSolver::assemble_row(const RowInputs& in, int row) {
       grounded = true;  // the image of a Dirichlet particle
     }
   });
-  if (diagonal == 0.0) {  // isolated: no pressure-carrying neighbour at all
-    diagonal = 1.0;
-    grounded = true;
-  }
-  writer.value(0) = diagonal;
+  writer.value(0) = diagonal == 0.0 ? 1.0 : diagonal;
   writer.close();
-  grounded_[static_cast<std::size_t>(row)] = grounded ? 1 : 0;
+  grounded_[static_cast<std::size_t>(row)] = grounded || diagonal == 0.0 ? 1 : 0;
+  if (diagonal == 0.0) {
+    // Isolated: no pressure-carrying neighbour at all, only walls whose samples carry its own
+    // pressure (dummy layers, the distance function: a Neumann wall), so nothing fixes P_i. A
+    // droplet on a wall: P_i = 0 (the row 1 * P_i = 0). Its source, (n*_i - n0)/n0 from the
+    // wall's share of n*_i, once made P_i = b_i / (1 m^-2): 1e8-3e8 Pa for a lone particle in a
+    // corner (docs/methods/mps.md, "Wall samples: an isolated row").
+    rhs_[static_cast<std::size_t>(row)] = 0.0;
+    return;
+  }
   // b_i = relaxation (rho/dt^2) (n*_i - n0)/n0   [sign: A = -<lap>]
   if (settings.source_term != nullptr) {  // a scheme's source term (methods/mps/mps_schemes.hpp)
     rhs_[static_cast<std::size_t>(row)] = (*settings.source_term)[i] + wall_part;
