@@ -78,8 +78,8 @@ struct Coverage {
     double value;
   };
   double whole = 0.0;
-  double past_corner = 0.0;  // the largest claim
-  std::array<Claim, 4> claims{};
+  double past_corner = 0.0;     // the largest claim
+  std::array<Claim, 4> claims;  // the first claim_count hold (not zeroed: built per row point)
   std::size_t claim_count = 0;
 
   void add_claim(std::size_t partner, double value) {
@@ -240,14 +240,22 @@ class DistanceFunction final : public WallSampleModel {
     coverages_.resize(near.size());
     for (std::size_t j = 0; j < near.size(); ++j) coverages_[j] = row_coverage(x, near[j], band, rows.step);
     hand_overs_.assign(near.size(), -1.0);  // f_t of near[k], computed when first needed
+    // Without lattice corners (corners = blended, or none in the scene) no member claims anything
+    // and the lattice is no member: the loops below skip both.
+    const bool lattice_corners = !lattice_corners_.empty();
+    const std::size_t members = near.size() + (lattice_corners ? 1 : 0);  // near's rows, then the lattice
     double own = 0.0;
     double total = 0.0;
-    for (std::size_t j = 0; j <= near.size(); ++j) {  // near's rows, then the corner lattice
+    for (std::size_t j = 0; j < members; ++j) {
       const bool lattice = j == near.size();
       double psi = lattice ? lattice_coverage(x, near, band, rows.step) : coverages_[j].whole;
       for (std::size_t k = 0; k < near.size() && psi > 0.0; ++k) {
         if (k == j) continue;
         if (hand_overs_[k] < 0.0) hand_overs_[k] = hand_over(distance_to_exposed(x, near[k]), rows.step);
+        if (!lattice_corners) {
+          psi *= hand_overs_[k];
+          continue;
+        }
         const double claim = lattice ? coverages_[k].past_corner : coverages_[k].claim_against(near[j]);
         psi *= hand_overs_[k] * (1.0 - claim);
       }
@@ -295,10 +303,10 @@ class DistanceFunction final : public WallSampleModel {
   Coverage row_coverage(const Vec2& x, std::size_t k, double band, double step) const {
     const WallSegment& segment = geometry_.segments()[k];
     const double depth = (segment.a - x).dot(segment.normal);  // m, > 0 behind the segment's line
-    if (depth <= 0.0 || depth >= band) return {};
+    Coverage coverage;
+    if (depth <= 0.0 || depth >= band) return coverage;
     const Vec2 along = (segment.b - segment.a).normalized();
     const double position = (x - segment.a).dot(along);  // m from a towards b
-    Coverage coverage;
     for (const ExposedPiece& piece : exposed_[k]) {
       const bool before = position < piece.from;
       const double beyond_end = std::max({piece.from - position, position - piece.to, 0.0});
