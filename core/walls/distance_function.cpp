@@ -78,21 +78,21 @@ struct Coverage {
     double value;
   };
   double whole = 0.0;
-  double past_corner = 0.0;     // the largest claim
   std::array<Claim, 4> claims;  // the first claim_count hold (not zeroed: built per row point)
   std::size_t claim_count = 0;
 
   void add_claim(std::size_t partner, double value) {
-    past_corner = std::max(past_corner, value);
     if (claim_count < claims.size()) claims[claim_count++] = {partner, value};
   }
+  // The claim against `partner`, or against anyone (kAnyPartner: what the lattice gives way to).
   double claim_against(std::size_t partner) const {
     double claim = 0.0;
     for (std::size_t c = 0; c < claim_count; ++c) {
-      if (claims[c].partner == partner) claim = std::max(claim, claims[c].value);
+      if (partner == kAnyPartner || claims[c].partner == partner) claim = std::max(claim, claims[c].value);
     }
     return claim;
   }
+  static constexpr std::size_t kAnyPartner = std::numeric_limits<std::size_t>::max() - 2;
 };
 
 // A part of a segment's surface that faces the fluid (corners = blended), and at each end the
@@ -256,7 +256,7 @@ class DistanceFunction final : public WallSampleModel {
           psi *= hand_overs_[k];
           continue;
         }
-        const double claim = lattice ? coverages_[k].past_corner : coverages_[k].claim_against(near[j]);
+        const double claim = coverages_[k].claim_against(lattice ? Coverage::kAnyPartner : near[j]);
         psi *= hand_overs_[k] * (1.0 - claim);
       }
       total += psi;
@@ -302,7 +302,7 @@ class DistanceFunction final : public WallSampleModel {
   // The largest over the segment's pieces; 0 for a segment with none (buried whole).
   Coverage row_coverage(const Vec2& x, std::size_t k, double band, double step) const {
     const WallSegment& segment = geometry_.segments()[k];
-    const double depth = (segment.a - x).dot(segment.normal);  // m, > 0 behind the segment's line
+    const double depth = depth_behind(x, k);  // m, > 0 behind the segment's line
     Coverage coverage;
     if (depth <= 0.0 || depth >= band) return coverage;
     const Vec2 along = (segment.b - segment.a).normalized();
@@ -322,7 +322,6 @@ class DistanceFunction final : public WallSampleModel {
     }
     const double back = hand_over(band - depth, step);
     coverage.whole *= back;
-    coverage.past_corner *= back;
     for (std::size_t c = 0; c < coverage.claim_count; ++c) coverage.claims[c].value *= back;
     return coverage;
   }
