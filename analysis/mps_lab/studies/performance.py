@@ -5,6 +5,9 @@ where the time goes, O(N) scaling to a million particles, threads and memory.
     /usr/bin/python3 analysis/performance.py --out runs/performance --only scaling --max-fluid 1e5
     /usr/bin/python3 analysis/performance.py --out runs/performance --only figures --docs
     /usr/bin/python3 analysis/performance.py --out /tmp/perf --quick            # seconds (tests)
+    /usr/bin/python3 analysis/performance.py --out runs/performance --only million    # hours
+    /usr/bin/python3 analysis/performance.py --out runs/perf --only targets --million-runs RUN... \
+        --side-by-side docs/data/reference_codes_*.csv               # the targets from runs made before
 
 The runs, the reference figures and the bench settings per method are data:
 analysis/sweeps/performance.json (--plan another). The methods come from the binary
@@ -23,7 +26,16 @@ Parts (--only picks some; each writes into --out and is reused by the later ones
                after running to 0.02 s, 40 measured steps -> resolutions.json.
   scaling      `mps_lab bench` from about 1e3 to --max-fluid fluid particles (l0 = 0.05/k,
                k = 5 ... 142), with 1 and 2 threads, from rest, 3 + 10 measured steps (5 above
-               3e5 particles) -> scaling.json.
+               3e5 particles, where each method and thread count runs in its own process, so
+               that its resident memory is its own) -> scaling.json.
+  threads      each method alone and beside one CPU-bound process with 1, 2 threads and the team
+               mps_lab measures (performance_threads.py) -> threads.csv.
+  million      by name only (hours): scenes/dambreak_large.json to 0.1 s, each method, or with
+               --million-runs the runs given (performance_million.py) -> million.csv.
+  targets      nothing runs: the plan's targets evaluated on the folder's data, met / missed /
+               not measured with the ratio to the limit (performance_targets.py; with
+               --side-by-side, the reference codes' CSVs) -> targets.csv; also done by every
+               other part.
   figures      performance_scaling.png (ns per fluid particle-step against N, log-log, with
                the +-30 % band around each method's median) and performance_phases.png (ms per
                step by phase at each resolution), and performance.md (the tables).
@@ -41,7 +53,8 @@ import sys
 from pathlib import Path
 
 from .. import SOURCE_ROOT, methods, runner
-from .common import SpecError, load_json
+from . import performance_million, performance_targets, performance_threads
+from .common import SpecError, load_json, write_csv
 
 ROOT = Path(SOURCE_ROOT)
 DEFAULT_PLAN = ROOT / "analysis" / "sweeps" / "performance.json"
@@ -63,7 +76,8 @@ def fluid_count(spacing: float) -> int:
 def load_plan(path: str | Path) -> dict:
     """The study's plan (analysis/sweeps/performance.json), checked; raises SpecError."""
     plan = load_json(str(path))
-    known = {"description", "set", "quick_end_time", "reference_runs", "reference_figures", "bench_per_spacing"}
+    known = {"description", "set", "quick_end_time", "reference_runs", "reference_figures", "bench_per_spacing",
+             "threads", "targets"}
     for key in plan:
         if key not in known:
             raise SpecError(f"{path}: {key}: unknown key (expected one of: {', '.join(sorted(known))})")
@@ -71,6 +85,11 @@ def load_plan(path: str | Path) -> dict:
         for key in ("method", "scene", "particle_spacing", "end_time"):
             if key not in run:
                 raise SpecError(f"{path}: reference_runs[{k}].{key}: missing")
+    for key in plan.get("threads", {}):
+        if key not in ("description", "rounds", "shared_end_time", "sizes_k", "sizes_steps"):
+            raise SpecError(f"{path}: threads.{key}: unknown key (expected description, rounds, shared_end_time, "
+                            f"sizes_k or sizes_steps)")
+    performance_targets.check_targets(str(path), plan.get("targets", []))
     return plan
 
 
@@ -168,8 +187,10 @@ def run_resolutions(binary: str, per_spacing: list[str], out: Path, quick: bool,
     bench(binary, ["--spacings", spacings, "--threads", "2"] + steps, out / "resolutions.json", per_spacing, timeout)
 
 
-def run_scaling(binary: str, per_spacing: list[str], out: Path, max_fluid: float, quick: bool,
+def run_scaling(binary: str, per_spacing: list[str], registered: list[str], out: Path, max_fluid: float, quick: bool,
                 timeout: float) -> None:
+    """Above 3e5 fluid particles each method and thread count runs in a process of its own, so that
+    its resident memory (the RSS grown by its simulation) is its own, not what an earlier case freed."""
     ks = [5] if quick else [k for k in SCALING_K if fluid_count(0.05 / k) <= max_fluid * 1.01]
     cases = []
     for k in ks:
@@ -177,9 +198,14 @@ def run_scaling(binary: str, per_spacing: list[str], out: Path, max_fluid: float
         large = fluid_count(spacing) > 3e5
         steps = ["--steps", "2", "--warmup-steps", "1"] if quick else \
             ["--steps", "5" if large else "10", "--warmup-steps", "3"]
-        part = bench(binary, ["--spacings", repr(spacing), "--threads", "1,2"] + steps,
-                     out / f"scaling_k{k}.json", per_spacing, timeout)
-        cases += part["cases"]
+        runs = [(f"{m}_t{t}", ["--methods", m, "--threads", str(t)]) for m in registered for t in (1, 2)] if large \
+            else [("", ["--threads", "1,2"])]
+        for suffix, selection in runs:
+            name = f"scaling_k{k}" + (f"_{suffix}" if suffix else "") + ".json"
+            part = bench(binary, ["--spacings", repr(spacing)] + selection + steps, out / name,
+                         [item for item in per_spacing if method_of_key(item) in (None, *selection[1:2])]
+                         if suffix else per_spacing, timeout)
+            cases += part["cases"]
     (out / "scaling.json").write_text(json.dumps({"cases": cases}, indent=1) + "\n")
 
 
@@ -319,7 +345,9 @@ def scaling_tables(out: Path) -> list[str]:
 
 
 def markdown(out: Path, plan: dict) -> str:
-    return "\n".join(reference_table(out, plan) + resolutions_table(out) + scaling_tables(out))
+    return "\n".join(performance_targets.targets_table(plan.get("targets", []), out) + reference_table(out, plan) +
+                     resolutions_table(out) + scaling_tables(out) + performance_threads.threads_table(out) +
+                     performance_million.million_table(out))
 
 
 def figures(out: Path, styles: methods.MethodStyles) -> None:
@@ -373,7 +401,8 @@ def figures(out: Path, styles: methods.MethodStyles) -> None:
 
 
 def copy_to_docs(out: Path) -> None:
-    for name in ["reference.csv", "resolutions.json", "scaling.json", "performance.md"]:
+    for name in ["reference.csv", "resolutions.json", "scaling.json", "threads.csv", "million.csv", "targets.csv",
+                 "performance.md"]:
         if (out / name).exists():
             target = name if name.startswith("performance") else "performance_" + name
             shutil.copy(out / name, ROOT / "docs" / "data" / target)
@@ -382,34 +411,70 @@ def copy_to_docs(out: Path) -> None:
             shutil.copy(out / name, ROOT / "docs" / "figures" / name)
 
 
+PARTS = ["reference", "resolutions", "scaling", "threads", "million", "targets", "figures"]
+DEFAULT_PARTS = ["reference", "resolutions", "scaling", "threads", "figures"]  # million: hours, by name only
+
+
+def copy_side_by_side(files: list[str], out: Path) -> None:
+    """tools/reference-codes/side-by-side.sh CSVs into out/side_by_side.csv (their rows, in order;
+    the repetitions of each file numbered apart, so that files of several sittings pool)."""
+    rows, columns = [], None
+    for index, name in enumerate(files):
+        try:
+            with open(name, newline="") as handle:
+                reader = csv.DictReader(handle)
+                columns = columns or reader.fieldnames
+                rows += [dict(row, repetition=f"{index + 1}.{row['repetition']}") for row in reader]
+        except (OSError, KeyError) as error:
+            raise SpecError(f"{name}: not a side-by-side CSV ({error})") from error
+    write_csv(rows, list(columns or ["repetition"]), str(out / "side_by_side.csv"))
+
+
+def run_parts(parts: list[str], found: str | None, plan: dict, registered: list[str], folder: Path, quick: bool,
+              max_fluid: float, timeout: float, million_runs: list[str] | None) -> None:
+    """The parts that run mps_lab, in order; raises StudyError, ThreadsError or MillionError."""
+    if "reference" in parts:
+        run_reference(found, plan, registered, folder, quick, timeout)
+    per_spacing = bench_per_spacing(plan, registered) if found else []
+    if "resolutions" in parts:
+        run_resolutions(found, per_spacing, folder, quick, timeout)
+    if "scaling" in parts:
+        run_scaling(found, per_spacing, registered, folder, max_fluid, quick, timeout)
+    if "threads" in parts:
+        performance_threads.run_threads(found, plan, registered, folder, quick, timeout)
+    if million_runs:
+        performance_million.write_million([Path(name) for name in million_runs], folder)
+    elif "million" in parts:
+        performance_million.write_million(performance_million.run_million(found, registered, folder, timeout), folder)
+
+
 def performance(out: str, binary: str | None = None, only: list[str] | None = None, max_fluid: float = 1.1e6,
                 quick: bool = False, docs: bool = False, timeout: float = DEFAULT_TIMEOUT,
-                plan_path: str | Path = DEFAULT_PLAN) -> int:
-    """The study (module docstring); 0, 2 for a bad plan or no binary, 1 when a part failed."""
+                plan_path: str | Path = DEFAULT_PLAN, million_runs: list[str] | None = None,
+                side_by_side: list[str] | None = None) -> int:
+    """The study (module docstring); 0, 2 for a bad plan, option or no binary, 1 when a part failed."""
     folder = Path(out)
     folder.mkdir(parents=True, exist_ok=True)
-    parts = only or ["reference", "resolutions", "scaling", "figures"]
-    found = None
+    parts = only or DEFAULT_PARTS
+    found, registered = None, []
     try:
         plan = load_plan(plan_path)
-        if any(part != "figures" for part in parts):
+        if side_by_side:
+            copy_side_by_side(side_by_side, folder)
+        if any(part in ("reference", "resolutions", "scaling", "threads") for part in parts) or \
+                ("million" in parts and not million_runs):
             found = runner.find_binary(binary)
             registered = methods.registered_methods(found)
     except (SpecError, runner.BinaryNotFound, methods.MethodListError) as error:
         print(f"performance.py: {error}", file=sys.stderr)
         return 2
     try:
-        if "reference" in parts:
-            run_reference(found, plan, registered, folder, quick, timeout)
-        per_spacing = bench_per_spacing(plan, registered) if found else []
-        if "resolutions" in parts:
-            run_resolutions(found, per_spacing, folder, quick, timeout)
-        if "scaling" in parts:
-            run_scaling(found, per_spacing, folder, max_fluid, quick, timeout)
-    except StudyError as error:
+        run_parts(parts, found, plan, registered, folder, quick, max_fluid, timeout, million_runs)
+    except (StudyError, performance_threads.ThreadsError, performance_million.MillionError) as error:
         print(f"performance.py: {error}", file=sys.stderr)
         return 1
     (folder / "performance.md").write_text(markdown(folder, plan) + "\n")
+    performance_targets.write_targets(plan.get("targets", []), folder)
     seen = methods_in(load_cases(folder / "scaling.json") + load_cases(folder / "resolutions.json"))
     figures(folder, methods.styles_for(seen, found or binary))
     if docs:
