@@ -46,7 +46,7 @@ TEST_CASE("The thread governor keeps the faster team and measures again after it
   omp_set_num_threads(before);
 }
 
-TEST_CASE("The thread governor counts a single disturbed probe step out by taking each team's fastest",
+TEST_CASE("The thread governor counts a single disturbed probe step out: each probe's slowest step is left out",
           "[unit][threads]") {
   mps_lab::ThreadGovernor governor({2, 0, 3, 100});
   int step = 0;
@@ -54,6 +54,66 @@ TEST_CASE("The thread governor counts a single disturbed probe step out by takin
   auto cost = [&step](int team) { return team == 1 ? 1.0 : (++step == 2 ? 5.0 : 0.6); };
   run_steps(governor, 6, cost);
   CHECK(governor.chosen_team() == 2);
+}
+
+TEST_CASE("A probe of short steps lasts probe_seconds and sees how often the second core is taken", "[unit][threads]") {
+  // Beside a busy process, with steps much shorter than a scheduler slice: two threads run a
+  // step in 0.12 ms while the other process is off the second core and wait 2 ms for it every
+  // fifth step (mean 0.496 ms); one thread takes 0.2 ms every step. Three steps would have seen
+  // only the fast ones (0.12 < 0.2: two threads, the choice of 2026-11-28 that ran wcsph 1.4-1.7x
+  // slower); a 20 ms probe sees the waits and keeps one thread.
+  mps_lab::ThreadGovernor governor({2, 0, 3, 200, 0.1, /*probe_seconds=*/0.02});
+  long long two_thread_steps = 0;
+  const auto cost = [&two_thread_steps](int team) {
+    if (team == 1) return 0.2e-3;
+    return ++two_thread_steps % 5 == 0 ? 2.0e-3 : 0.12e-3;
+  };
+  const int one_thread_probe = 100;  // 0.02 s / 0.2 ms
+  run_steps(governor, one_thread_probe, cost);
+  CHECK(governor.chosen_team() == 2);  // the first probe (one thread) is not over: nothing chosen yet
+  int steps = one_thread_probe;
+  while (governor.summary().at("choices") == 0 && steps < 10000) {
+    run_steps(governor, 1, cost);
+    ++steps;
+  }
+  CHECK(governor.chosen_team() == 1);
+  // The two-thread probe ran until its steps added up to 0.02 s: 40 steps make 19.84 ms, the
+  // 42nd passes 20 ms (34 fast steps and 8 slow ones).
+  CHECK(two_thread_steps == 42);
+  // Its typical step is the mean without its slowest: 7 slow and 34 fast steps over 41,
+  // 0.441 ms against one thread's 0.2 ms.
+  const double typical = governor.summary().at("last_probe_seconds_per_step").at("2").get<double>();
+  CHECK(typical == Approx((34 * 0.12e-3 + 7 * 2.0e-3) / 41.0));
+}
+
+TEST_CASE("The period doubles while the team holds and is short again after a change", "[unit][threads]") {
+  // Steps of 1/2048 s with two threads, 1/1024 s with one (sums exact in binary). Periods of at
+  // least 200 steps and 0.25 s, doubled to at most 1 s while the probes keep two threads.
+  mps_lab::ThreadGovernor governor({2, 0, 3, 200, 0.1, /*probe_seconds=*/0.0, /*period_seconds=*/0.25,
+                                    /*longest_period_seconds=*/1.0});
+  const auto two_faster = [](int team) { return team == 2 ? 1.0 / 2048 : 1.0 / 1024; };
+  const auto choices = [&governor] { return governor.summary().at("choices").get<long long>(); };
+  run_steps(governor, 6, two_faster);  // the first probes: 3 + 3 steps
+  REQUIRE(governor.chosen_team() == 2);
+  for (const int period_steps : {512, 1024, 2048, 2048}) {  // 0.25, 0.5, 1 and again 1 s
+    const long long before = choices();
+    run_steps(governor, period_steps - 1, two_faster);
+    CHECK(choices() == before);              // not yet
+    run_steps(governor, 1 + 6, two_faster);  // the period's last step, then a probe that keeps two
+    CHECK(choices() == before + 1);
+    CHECK(governor.chosen_team() == 2);
+  }
+  // One thread becomes faster: the next probe changes team, and the period is 0.25 s again
+  // (256 one-thread steps of 1/1024 s, and at least 200).
+  const auto one_faster = [](int team) { return team == 2 ? 1.0 / 256 : 1.0 / 1024; };
+  run_steps(governor, 2048, two_faster);  // the 1 s period
+  run_steps(governor, 6, one_faster);     // and the probe that finds one thread faster
+  REQUIRE(governor.chosen_team() == 1);
+  const long long after_change = choices();
+  run_steps(governor, 255, one_faster);
+  CHECK(choices() == after_change);
+  run_steps(governor, 1 + 6, one_faster);
+  CHECK(choices() == after_change + 1);
 }
 
 TEST_CASE("After its first choice the thread governor changes team only for a clearly faster one", "[unit][threads]") {

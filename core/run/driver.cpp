@@ -796,13 +796,16 @@ std::string RunSession::advance_to_end() {
     governor_.next_team();
     const auto step_started = Clock::now();
     simulation_.advance();
-    governor_.record(seconds_since(step_started));
     const long long step = simulation_.steps();
     const bool frame_by_time = crossed(scene_.output.frame_interval, next_frame_time_);
     const bool series_by_time = crossed(scene_.output.series_interval, next_series_time_);
     const bool frame = step % scene_.output.frame_every_steps == 0 || frame_by_time;
     if (frame || series_by_time || step % scene_.output.series_every_steps == 0) record(frame);
     if (checkpoint_every > 0 && step % checkpoint_every == 0) write_checkpoint();
+    // The whole step as the run pays for it, its output included: beside a busy process, two
+    // threads ran wcsph's steps no slower than one but its output 4x slower (the idle OpenMP
+    // thread spinning against the frame writer; docs/performance.md, "Threads that never hurt").
+    governor_.record(seconds_since(step_started));
     if (options_.stop_reason) stop_reason = options_.stop_reason();
     if (!stop_reason.empty()) break;
     show_progress(step);
