@@ -198,14 +198,13 @@ def run_scaling(binary: str, per_spacing: list[str], registered: list[str], out:
         large = fluid_count(spacing) > 3e5
         steps = ["--steps", "2", "--warmup-steps", "1"] if quick else \
             ["--steps", "5" if large else "10", "--warmup-steps", "3"]
-        runs = [(f"{m}_t{t}", ["--methods", m, "--threads", str(t)]) for m in registered for t in (1, 2)] if large \
-            else [("", ["--threads", "1,2"])]
-        for suffix, selection in runs:
-            name = f"scaling_k{k}" + (f"_{suffix}" if suffix else "") + ".json"
-            part = bench(binary, ["--spacings", repr(spacing)] + selection + steps, out / name,
-                         [item for item in per_spacing if method_of_key(item) in (None, *selection[1:2])]
-                         if suffix else per_spacing, timeout)
-            cases += part["cases"]
+        # (file name, the bench's selection, the per-spacing keys it takes)
+        runs = [(f"scaling_k{k}_{m}_t{t}.json", ["--methods", m, "--threads", str(t)],
+                 [item for item in per_spacing if method_of_key(item) in (None, m)])
+                for m in registered for t in (1, 2)] if large else \
+            [(f"scaling_k{k}.json", ["--threads", "1,2"], per_spacing)]
+        for name, selection, keys in runs:
+            cases += bench(binary, ["--spacings", repr(spacing)] + selection + steps, out / name, keys, timeout)["cases"]
     (out / "scaling.json").write_text(json.dumps({"cases": cases}, indent=1) + "\n")
 
 

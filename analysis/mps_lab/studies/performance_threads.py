@@ -16,6 +16,7 @@ wall seconds, ns per fluid particle-step, status, the steps each team ran, the r
 """
 from __future__ import annotations
 
+import contextlib
 import json
 import subprocess
 import sys
@@ -84,10 +85,7 @@ def shared_rows(binary: str, method: str, number: int, end_time: float, out: Pat
     for load in ("alone", "busy"):
         for threads in TEAMS:
             folder = out / "threads" / f"shared-{method}-{load}-{team_name(threads)}-{number}"
-            if load == "busy":
-                with BusyProcess():
-                    run = timed_run(binary, method, threads, folder, ["--end-time", repr(end_time)], timeout)
-            else:
+            with BusyProcess() if load == "busy" else contextlib.nullcontext():
                 run = timed_run(binary, method, threads, folder, ["--end-time", repr(end_time)], timeout)
             rows.append(row_of(run, round=number, part="shared", method=method, load=load, team=team_name(threads)))
     base = rows[0]["wall_seconds"]  # alone, one thread
