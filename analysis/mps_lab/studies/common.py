@@ -121,6 +121,11 @@ def read_rows(path: str, numeric: set[str]) -> list[dict]:
     return rows
 
 
+def read_rows_if_present(path: str, numeric: set[str]) -> list[dict]:
+    """read_rows of a study CSV that a part may not have written yet: [] without the file."""
+    return read_rows(path, numeric) if os.path.exists(path) else []
+
+
 def merge_rows(rows: list[dict], earlier: list[dict]) -> tuple[list[dict], int]:
     """Each row without a finished run here replaced by the earlier row of the same case (same
     "name"), when there is one; earlier rows of cases not in this grid are dropped. Returns the

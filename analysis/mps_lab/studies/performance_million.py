@@ -14,13 +14,16 @@ import json
 from pathlib import Path
 
 from .. import SOURCE_ROOT, runner
-from .common import read_rows, write_csv
+from .common import read_rows_if_present, write_csv
 
 ROOT = Path(SOURCE_ROOT)
 SCENE = ROOT / "scenes" / "dambreak_large.json"
 PROC_BIND = "true"
 COLUMNS = ["method", "fluid_particles", "steps", "wall_seconds", "wall_minutes", "mean_iterations",
            "bytes_per_particle", "status", "overrides", "git_revision", "started_at", "folder"]
+
+# The columns read back as numbers.
+NUMERIC = {"fluid_particles", "steps", "wall_seconds", "wall_minutes", "mean_iterations", "bytes_per_particle"}
 
 
 class MillionError(Exception):
@@ -64,9 +67,7 @@ def write_million(folders: list[Path], out: Path) -> None:
 
 def load_rows(out: Path) -> list[dict]:
     """million.csv with its numbers parsed; [] without one."""
-    path = out / "million.csv"
-    numeric = {"fluid_particles", "steps", "wall_seconds", "wall_minutes", "mean_iterations", "bytes_per_particle"}
-    return read_rows(str(path), numeric) if path.exists() else []
+    return read_rows_if_present(str(out / "million.csv"), NUMERIC)
 
 
 def million_table(out: Path) -> list[str]:

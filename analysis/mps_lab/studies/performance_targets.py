@@ -23,11 +23,11 @@ of its kind; its kind names the file it reads:
 from __future__ import annotations
 
 import csv
-import json
 import statistics
 from pathlib import Path
 
 from . import performance_million, performance_threads
+from .performance_cases import load_cases, scaling_summary, speedups
 from .common import SpecError, write_csv
 
 KINDS = ("shared_machine", "measured_team", "side_by_side", "memory", "speedup", "flat", "million_minutes")
@@ -56,17 +56,6 @@ def check_targets(path: str, targets: list) -> None:
                 raise SpecError(f"{where}.{key}: missing (kind {target['kind']})")
         if target.get("measure", "particle_steps") not in ("particle_steps", "simulated_seconds"):
             raise SpecError(f"{where}.measure: got {target['measure']!r}, expected particle_steps or simulated_seconds")
-
-
-def scaling_cases(out: Path) -> list[dict]:
-    path = out / "scaling.json"
-    return json.loads(path.read_text())["cases"] if path.exists() else []
-
-
-def completed_steps(cases: list[dict], method: str, threads: int) -> list[dict]:
-    return sorted((c for c in cases if c.get("kind") == "steps" and c.get("method") == method
-                   and c.get("threads") == threads and c.get("status") == "completed"),
-                  key=lambda c: c["fluid_particles"])
 
 
 def side_by_side_rows(out: Path, pair: str) -> list[dict]:
@@ -118,24 +107,24 @@ def measured_values(target: dict, out: Path) -> list[tuple[float, str]]:
 
 
 def scaling_value(target: dict, out: Path) -> list[tuple[float, str]]:
-    """memory, speedup and flat, from scaling.json."""
-    cases = scaling_cases(out)
-    two = completed_steps(cases, target["method"], 2)
+    """memory, speedup and flat, from scaling.json (the tables' own summaries, performance_cases.py)."""
+    cases = load_cases(out / "scaling.json")
+    method = target["method"]
+    two = sorted((c for c in cases if c.get("kind") == "steps" and c.get("method") == method
+                  and c.get("threads") == 2 and c.get("status") == "completed"), key=lambda c: c["fluid_particles"])
     if not two:
         return []
     largest = two[-1]
+    where = f"scaling.json: {largest['fluid_particles']:,} fluid"
     if target["kind"] == "memory":
-        return [(largest["memory_bytes_per_particle"], f"scaling.json: {largest['fluid_particles']:,} fluid")]
+        return [(largest["memory_bytes_per_particle"], where)]
     if target["kind"] == "speedup":
-        one = [c for c in completed_steps(cases, target["method"], 1)
-               if c["fluid_particles"] == largest["fluid_particles"]]
-        return [(one[0]["seconds"] / largest["seconds"], f"scaling.json: {largest['fluid_particles']:,} fluid")] \
-            if one else []
-    values = sorted(c["nanoseconds_per_particle_step"] for c in two)
-    median = statistics.median(values)
-    spread = max(abs(values[0] / median - 1.0), abs(values[-1] / median - 1.0))
-    return [(spread, f"scaling.json: {two[0]['fluid_particles']:,}–{largest['fluid_particles']:,} fluid, "
-                     f"{100 * (values[0] / median - 1):+.0f} … {100 * (values[-1] / median - 1):+.0f} %")]
+        return [(ratio, where) for m, fluid, ratio in speedups(cases)
+                if m == method and fluid == largest["fluid_particles"]]
+    row = next(r for r in scaling_summary(cases) if r["method"] == method and r["threads"] == 2)
+    return [(max(abs(row["low"]), abs(row["high"])),
+             f"scaling.json: {two[0]['fluid_particles']:,}–{largest['fluid_particles']:,} fluid, "
+             f"{100 * row['low']:+.0f} … {100 * row['high']:+.0f} %")]
 
 
 def evaluate(targets: list[dict], out: Path) -> list[dict]:

@@ -23,13 +23,16 @@ import sys
 from pathlib import Path
 
 from .. import SOURCE_ROOT, runner
-from .common import read_rows, write_csv
+from .common import read_rows_if_present, write_csv
 
 ROOT = Path(SOURCE_ROOT)
 PROC_BIND = "true"
 TEAMS = (1, 2, 0)  # --threads: one, two, and 0 = the measured team (the default)
 COLUMNS = ["round", "part", "method", "load", "team", "fluid_particles", "steps", "wall_seconds",
            "ns_per_particle_step", "status", "steps_by_team", "ratio"]
+
+# The columns read back as numbers.
+NUMERIC = {"round", "fluid_particles", "steps", "wall_seconds", "ns_per_particle_step", "ratio"}
 
 
 class ThreadsError(Exception):
@@ -126,9 +129,7 @@ def run_threads(binary: str, plan: dict, registered: list[str], out: Path, quick
 
 def load_rows(out: Path) -> list[dict]:
     """threads.csv with its numbers parsed; [] without one."""
-    path = out / "threads.csv"
-    numeric = {"round", "fluid_particles", "steps", "wall_seconds", "ns_per_particle_step", "ratio"}
-    return read_rows(str(path), numeric) if path.exists() else []
+    return read_rows_if_present(str(out / "threads.csv"), NUMERIC)
 
 
 def threads_table(out: Path) -> list[str]:
