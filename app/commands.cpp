@@ -52,6 +52,19 @@ std::string stop_reason() {
   return "signal " + std::to_string(signal_number);
 }
 
+// The teams that ran the steps, from run.json's threads_used: "1 thread" or "2 threads" when one
+// team ran them all, else each team with its steps, "1 thread 84 steps, 2 threads 379 steps".
+std::string teams_used(const nlohmann::json& threads_used) {
+  const auto& steps_by_team = threads_used.at("steps_by_team");
+  std::string text;
+  for (const auto& [team, steps] : steps_by_team.items()) {
+    if (!text.empty()) text += ", ";
+    text += team + (team == "1" ? " thread" : " threads");
+    if (steps_by_team.size() > 1) text += " " + std::to_string(steps.get<long long>()) + " steps";
+  }
+  return text.empty() ? "no steps" : text;
+}
+
 // The exit code of a finished run (or resumed run), with its one line on stderr or stdout.
 int report_run(const RunResult& result, bool quiet, bool profile) {
   if (profile && result.summary.contains("profile")) {
@@ -70,9 +83,9 @@ int report_run(const RunResult& result, bool quiet, bool profile) {
   }
   if (!quiet) {
     const auto& summary = result.summary;
-    std::printf("%s: %lld steps to t = %.4g s in %.2f s wall (%d threads), mean solver iterations %.1f -> %s/\n",
+    std::printf("%s: %lld steps to t = %.4g s in %.2f s wall (%s), mean solver iterations %.1f -> %s/\n",
                 summary["method"].get<std::string>().c_str(), result.steps, result.simulated_time, result.wall_seconds,
-                summary["threads"].get<int>(), summary["solver"]["mean_iterations"].get<double>(),
+                teams_used(summary["threads_used"]).c_str(), summary["solver"]["mean_iterations"].get<double>(),
                 result.directory.c_str());
   }
   return 0;

@@ -120,6 +120,23 @@ TEST_CASE("run.json records how waiting OpenMP threads wait - the runtime's own 
   CHECK(passive["omp_wait_policy"] == "PASSIVE");
 }
 
+TEST_CASE("mps_lab run's summary line names the team that ran the steps", "[cli][threads]") {
+  // The line read "(2 threads)", the threads available, even when --threads 1 ran every step on
+  // one (2026-11-29). It now names the teams of run.json's threads_used.steps_by_team.
+  for (const int threads : {1, 2}) {
+    const auto out = fresh_directory("cli_team_" + std::to_string(threads));
+    const auto result = run_mps_lab("run --method=mps " + scene_path("dambreak.json") + " --end-time 0.01 --threads " +
+                                        std::to_string(threads) + " --out " + out.string(),
+                                    "team_" + std::to_string(threads));
+    REQUIRE(result.exit_code == 0);
+    const auto used = nlohmann::json::parse(read_text(out / "run.json"))["threads_used"];
+    CHECK(used["steps_by_team"][std::to_string(threads)] == 20);
+    const std::string expected = threads == 1 ? "(1 thread)" : "(2 threads)";
+    INFO(result.stdout_text);
+    CHECK(result.stdout_text.find(expected) != std::string::npos);
+  }
+}
+
 TEST_CASE("bad input: one line naming the problem - non-zero exit - nothing run", "[cli][input]") {
   const auto dir = fresh_directory("cli_bad_input");
   write_text(dir / "truncated.json", R"({"domain": {"min": [0, 0], "max": [1, 0.6]}, "fluid_bl)");

@@ -135,8 +135,8 @@ TEST_CASE("isph water surface: the contact line's factor does not jump as the pa
       ParticleSet moved = t->particles;
       moved.position[corner].y() += dy;
       std::vector<double> factor;
-      isph::water_surface_factors(moved, t->neighbours, t->samples, t->kernel, t->scene.physics.gravity, surface,
-                                  delta, l0, factor);
+      isph::water_surface_factors(moved, t->neighbours, t->samples, t->kernel, t->scene.physics.gravity, surface, delta,
+                                  l0, factor);
       factors.push_back(factor[corner]);
     }
     REQUIRE(factors[0] > 0.0);

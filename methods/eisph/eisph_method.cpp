@@ -476,9 +476,7 @@ void mps_lab_register_method_eisph(mps_lab::MethodRegistry& registry) {
   // For wall loads: p = 0 at the water surface, as isph's, and still water started at rest
   // (docs/methods/eisph.md).
   info.load_setting = {
-      {{"free_surface_offset", "0.5"},
-       {"initial_pressure", "\"hydrostatic\""},
-       {"dry_wall_points", "\"excluded\""}},
+      {{"free_surface_offset", "0.5"}, {"initial_pressure", "\"hydrostatic\""}, {"dry_wall_points", "\"excluded\""}},
       0.03,
       "measured within 2.3 % (0.977-1.004) over [0.5, 3] s at the tank's l0 = 0.025 m (one Jacobi sweep per step: "
       "the shallow sensor sinks over the run; dry_wall_points excluded since 2026-11-29, before: 3.5 %, promise 4 %), "

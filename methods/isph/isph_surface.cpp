@@ -52,8 +52,8 @@ double surface_factor(const ParticleSet& particles, const NeighbourList& neighbo
                       const SphKernel& kernel, const Vec2& down, double offset, double spacing, std::size_t i) {
   const Vec2 normal = outward_normal(particles, neighbours, samples, kernel, down, spacing, i);
   const double minimum_depth = kMinimumSurfaceDepth * spacing;  // m
-  double weight_sum = 0.0;  // sum_j W_ij, 1/m^2
-  double depth_sum = 0.0;   // sum_j W_ij (x_i - x_j) . n_i, 1/m
+  double weight_sum = 0.0;                                      // sum_j W_ij, 1/m^2
+  double depth_sum = 0.0;                                       // sum_j W_ij (x_i - x_j) . n_i, 1/m
   for_each_neighbour(neighbours, i, [&](std::uint32_t j) {
     if (particles.type[j] != ParticleType::Fluid) return;
     const Vec2 between = particles.position[i] - particles.position[j];
@@ -99,8 +99,8 @@ void water_surface_factors(const ParticleSet& particles, const NeighbourList& ne
 #pragma omp parallel for schedule(static)
   for (std::ptrdiff_t i = 0; i < n; ++i) {
     if (particles.type[i] != ParticleType::Fluid || free_surface[i] == 0.0) continue;
-    factor[i] = surface_factor(particles, neighbours, samples, kernel, down, offset, spacing,
-                               static_cast<std::size_t>(i));
+    factor[i] =
+        surface_factor(particles, neighbours, samples, kernel, down, offset, spacing, static_cast<std::size_t>(i));
   }
 }
 
