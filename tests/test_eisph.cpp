@@ -282,9 +282,9 @@ TEST_CASE("EISPH load setting: the spec dam break to 2 s with every boundary mod
   // dry_wall_points "excluded") with each boundary model eisph supports, the bounds of the test
   // above. Measured 2026-11-28: front RMS 0.102-0.223 (mirror particles the highest), shifted
   // 0.064-0.082, 6-7 ghosts; 2026-11-29 (the exclusion, the wall points' wet share): 0.103-0.223,
-  // shifted 0.062-0.094, 5-8 ghosts. From
-  // p = 0 (the setting before 2026-11-28) the distance function diverged at the far-wall impact
-  // (step 194, 0.355 s) in each of 6 realisations; from the hydrostatic pressure it completes.
+  // shifted 0.062-0.094, 5-8 ghosts. From p = 0 (the setting before 2026-11-28) the distance
+  // function diverged at the far-wall impact (step 194, 0.355 s) in each of 6 realisations; from
+  // the hydrostatic pressure it completes.
   const MethodInfo& eisph = *registries().methods.find("eisph");
   for (const WallTreatmentInfo* model : boundary_models(eisph)) {
     INFO("boundary model " << model->name);

@@ -9,8 +9,9 @@
 // surface particle i is x_i + delta n_i, n_i its outward unit normal (the colour function's:
 // n_i ~ -sum_j m_j grad W_ij over the fluid neighbours and the wall points), and p_i is the
 // linear interpolation along n_i between that point and the kernel-weighted mean of its fluid
-// neighbours, which lies d_i beneath it (wall points above the particle, against gravity, are
-// dry and left out of n_i: see outward_normal in isph_surface.cpp):
+// neighbours, which lies d_i beneath it (a wall point enters n_i with its wet share: 1 level
+// with the particle or below, 0 a spacing or more above it, against gravity; see wet_share in
+// isph_surface.cpp):
 //   p_i = delta / (delta + d_i) sum_j w_ij p_j,                                        (SURF)
 //   w_ij = W_ij / sum_k W_ik,   d_i = sum_j w_ij (x_i - x_j) . n_i,
 // over the non-ghost fluid neighbours j != i (Adami, Hu & Adams 2012 take the wall pressure
