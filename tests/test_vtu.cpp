@@ -3,6 +3,7 @@
 // reported as OutputErrors naming the file.
 #include <catch2/catch.hpp>
 
+#include <algorithm>
 #include <cstring>
 #include <functional>
 #include <map>
@@ -318,6 +319,28 @@ TEST_CASE("frames written in the background are byte for byte those written in t
     REQUIRE(actual.count(name) == 1);
     CHECK(actual.at(name) == content);
   }
+}
+
+TEST_CASE("series.csv is rewritten at most once per period during a run - and whole by write_summary", "[output]") {
+  // A run rewrites the whole file (atomically), so a rewrite after every row cost O(rows^2): 94 % of
+  // a 23,000-step run with a row per step (core/io/output.hpp, kSeriesRewritePeriod). The first row
+  // is written at once; the next 199, added within microseconds, wait for the period (1 s); run.json's
+  // write_summary writes all 200 (as a checkpoint's and the run's end do).
+  const auto dir = fresh_directory("series_period");
+  RunOutput output(dir, FrameFormats{true, false, false}, {"step"});
+  output.prepare();
+  const auto rows_on_disk = [&] {
+    const std::string text = read_text(dir / "series.csv");
+    return std::count(text.begin(), text.end(), '\n') - 1;  // without the header
+  };
+  for (int step = 0; step < 200; ++step) {
+    output.add_series_row({static_cast<double>(step)});
+    output.write_series_when_due();
+  }
+  CHECK(rows_on_disk() == 1);
+  output.write_summary({{"status", "completed"}});
+  CHECK(rows_on_disk() == 200);
+  CHECK(read_text(dir / "series.csv").rfind("199\n") == read_text(dir / "series.csv").size() - 4);
 }
 
 TEST_CASE("a background write that fails is a one-line OutputError naming the file at the next call", "[output]") {

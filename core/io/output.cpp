@@ -537,6 +537,7 @@ void RunOutput::restore_state(CheckpointReader& in) {
     in.fail("series.csv columns differ from this build's: " + series.substr(0, series.find('\n')));
   }
   series_text_ = std::move(series);
+  series_unwritten_ = true;
   frames_.resize(in.read_size());
   for (auto& record : frames_) {
     record.step = in.read_int();
@@ -555,15 +556,29 @@ void RunOutput::add_series_row(const std::vector<double>& values) {
     append(series_text_, values[k]);
   }
   series_text_ += '\n';
+  series_unwritten_ = true;
 }
 
 void RunOutput::write_series() {
   rethrow_write_failure();
+  if (!series_unwritten_) return;
   write_file_atomically(directory_ / "series.csv", series_text_);
+  series_unwritten_ = false;
+  series_written_at_ = std::chrono::steady_clock::now();
+}
+
+void RunOutput::write_series_when_due() {
+  rethrow_write_failure();
+  if (series_written_at_ != std::chrono::steady_clock::time_point{} &&
+      std::chrono::steady_clock::now() - series_written_at_ < kSeriesRewritePeriod) {
+    return;
+  }
+  write_series();
 }
 
 void RunOutput::write_summary(const nlohmann::json& summary) {
-  flush();  // run.json describes frames that are on disk
+  flush();         // run.json describes frames that are on disk
+  write_series();  // and the rows so far
   // A scene path or --set value in another encoding must not stop the summary being written.
   write_file_atomically(directory_ / "run.json",
                         summary.dump(2, ' ', false, nlohmann::json::error_handler_t::replace) + "\n");

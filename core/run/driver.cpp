@@ -737,7 +737,7 @@ void RunSession::record(bool frame) {
   }();
   const auto timed = timers_.measure(output_phase_);
   output_.add_series_row(series_row(measures));
-  output_.write_series();
+  output_.write_series_when_due();
   if (frame) {
     output_.write_frame(simulation_.particles(), info_.fields, simulation_.time(), simulation_.steps(),
                         "mps_lab " + info_.name);
