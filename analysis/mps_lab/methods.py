@@ -21,6 +21,9 @@ from . import runner
 LISTING_TIMEOUT = 60.0  # s; `mps_lab methods` prints a table and exits
 MARKERS = ["o", "s", "^", "D", "v", "P", "X", "*", "h", "<", ">", "p"]
 WALL_TREATMENT_LINE = re.compile(r"^\s+wall treatment (\S+) \((boundary model|measure), (on|off) by default[,)]")
+# The load setting's line (app/commands.cpp): "load setting (--load-setting): --set ...; promise: still
+# water within 2 % of rho g h (...)".
+PROMISE_LINE = re.compile(r"^\s+load setting \(--load-setting\):.*; promise: still water within ([0-9.]+) % of rho g h")
 
 
 class MethodListError(Exception):
@@ -56,6 +59,7 @@ class MethodInfo:
     boundary_models: list[str] = field(default_factory=list)  # the boundary models it supports, listed order
     default_boundary_model: str = ""  # the one on by default ("" when none is)
     measures: list[str] = field(default_factory=list)  # the wall measures it supports
+    still_water_promise: float | None = None  # its load setting's still-water tolerance (0.02: 2 %), if declared
 
 
 def parse_catalogue(listing: str) -> dict[str, MethodInfo]:
@@ -68,6 +72,10 @@ def parse_catalogue(listing: str) -> dict[str, MethodInfo]:
         if not line[0].isspace():
             name, _, description = line.strip().partition(" ")
             current = catalogue.setdefault(name, MethodInfo(name, description.strip()))
+            continue
+        promise = PROMISE_LINE.match(line)
+        if current is not None and promise is not None:
+            current.still_water_promise = float(promise.group(1)) / 100.0
             continue
         treatment = WALL_TREATMENT_LINE.match(line)
         if current is None or treatment is None:

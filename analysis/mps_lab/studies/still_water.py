@@ -1,0 +1,190 @@
+"""Still water at the wall sensors: issue 14's 1 % target, measured the way the test suite does.
+
+    /usr/bin/python3 analysis/still_water.py --out runs/still_water                    # every method and model
+    /usr/bin/python3 analysis/still_water.py --methods isph --set methods.isph.kernel='"wendland_c2"'
+    /usr/bin/python3 analysis/still_water.py --methods eisph --realisations 6 --end-time 3
+    /usr/bin/python3 analysis/still_water.py --defaults --window 0.5 1.5 --end-time 1.5  # the defaults' test
+
+scenes/hydrostatic.json (l0 = 0.025 m, water 0.275 m deep between the bed's and the lattice's top
+edge) with three sensors on the left wall's first particle line at y = 0.0625, 0.1375 and
+0.2125 m, depths h = 0.225, 0.15 and 0.075 m below the lattice's top edge (the top row of
+particle centres + l0/2, taken from the run's first frame), and a dry sensor at 0.5 m: the
+sensors of tests/test_pressure_sensors.cpp. Each method runs with its load setting
+(`--load-setting`, the setting its promise is for; `--defaults`: without it) and with each
+boundary model it supports (`--set methods.M.wall_treatments={"MODEL":{}}`, as the test), then
+the `--set`s given here. A realisation k > 0 scales gravity by 1 + k 1e-10: far below any
+physical effect, it draws another realisation of water that never comes to rest
+(docs/validation.md, "Realisations").
+
+Each sensor's reading is the time-weighted mean over the window of series.csv's rows (a row is
+the mean since the row before; it counts with its overlap with the window), divided by
+rho |g| h with the run's own density and gravity. Methods and models are read from the binary
+(`mps_lab methods --parameters`), so a method or model added later is measured without an edit.
+
+<out>/still_water.csv, one row per case: method, boundary_model, realisation, status, the three
+ratios (ratio_h0225, ratio_h0150, ratio_h0075), dry (the dry sensor's mean, Pa: 0 unless
+broken), worst (the largest |ratio - 1|) and within_1pct (sensors within 1 %).
+<out>/still_water.md: per method the ratios of every model and realisation, the range, how many
+sensors are within 1 %, and the method's promise (its load setting's tolerance)."""
+from __future__ import annotations
+
+import csv
+import math
+import os
+
+from .. import SOURCE_ROOT, runner
+from ..methods import method_catalogue
+from .common import check_methods, run_summary, write_csv
+
+SCENE = os.path.join(SOURCE_ROOT, "scenes", "hydrostatic.json")
+SENSOR_HEIGHTS = (0.0625, 0.1375, 0.2125)  # m, on the left wall's first particle line, x = 0.0125 m
+DRY_HEIGHT = 0.5  # m, above the water
+TARGET = 0.01  # issue 14: within 1 % of rho g h
+RATIOS = ["ratio_h0225", "ratio_h0150", "ratio_h0075"]
+COLUMNS = ["method", "boundary_model", "realisation", "status", *RATIOS, "dry", "worst", "within_1pct"]
+DEFAULT_TIMEOUT = 600.0  # s per case; a case runs in seconds
+
+
+def sensors_override() -> str:
+    """The scene key of the test's sensors (tests/test_pressure_sensors.cpp, tank_sensors)."""
+    points = [(f"s{k}", y) for k, y in enumerate(SENSOR_HEIGHTS)] + [("dry", DRY_HEIGHT)]
+    return "diagnostics.pressure_sensors=[" + ",".join(
+        f'{{"name": "{name}", "position": [0.0125, {y}]}}' for name, y in points) + "]"
+
+
+def case_arguments(method: str, model: str, realisation: int, folder: str, end_time: float, load_setting: bool,
+                   overrides: list[str]) -> list[str]:
+    """`mps_lab run` of one case: the tank, the method's load setting, the model, every step's row."""
+    arguments = ["run", SCENE, "--method", method, "--out", folder, "--quiet", "--end-time", f"{end_time:g}",
+                 "--set", sensors_override(), "--set", "output.series_every_steps=1",
+                 "--set", "output.frame_every_steps=1000000000", "--set", 'output.formats=["csv"]',
+                 "--set", f'methods.{method}.wall_treatments={{"{model}":{{}}}}']
+    if load_setting:
+        arguments.append("--load-setting")
+    if realisation > 0:
+        arguments += ["--set", f"physics.gravity=[0, {-9.81 * (1.0 + realisation * 1e-10)!r}]"]
+    for override in overrides:
+        arguments += ["--set", override]
+    return arguments
+
+
+def requests(out: str, catalogue: dict, methods: list[str], realisations: int, end_time: float,
+             load_setting: bool, overrides: list[str]):
+    """One CaseRequest per method x boundary model x realisation."""
+    for method in methods:
+        for model in catalogue[method].boundary_models:
+            for realisation in range(realisations):
+                name = f"{method}__{model}__r{realisation}"
+                folder = os.path.join(out, "cases", name)
+                arguments = case_arguments(method, model, realisation, folder, end_time, load_setting, overrides)
+                yield runner.CaseRequest(name, arguments, folder,
+                                         {"method": method, "boundary_model": model, "realisation": realisation})
+
+
+def window_mean(times: list[float], values: list[float], start: float, end: float) -> float:
+    """The time-weighted mean over [start, end] of rows that each hold the mean since the row before:
+    row k covers (t_{k-1}, t_k] and counts with its overlap with the window."""
+    weighted = weight = 0.0
+    for k in range(1, len(times)):
+        overlap = min(times[k], end) - max(times[k - 1], start)
+        if overlap > 0.0:
+            weighted += values[k] * overlap
+            weight += overlap
+    return weighted / weight if weight > 0.0 else math.nan
+
+
+def fluid_top(folder: str) -> float:
+    """The top row of particle centres in the run's first frame, m."""
+    with open(os.path.join(folder, "output_000000.csv"), newline="") as handle:
+        return max(float(row["y"]) for row in csv.DictReader(handle) if float(row["type"]) == 0.0)
+
+
+def sensor_ratios(folder: str, start: float, end: float) -> dict:
+    """The case's ratios to rho |g| h, the dry sensor's mean, the worst deviation and the count within 1 %."""
+    summary = run_summary(folder)
+    shared = summary["shared"]
+    rho_g = shared["density"] * math.hypot(*shared["gravity"])  # Pa/m
+    surface = fluid_top(folder) + 0.5 * shared["particle_spacing"]  # m, the lattice's top edge
+    with open(os.path.join(folder, "series.csv"), newline="") as handle:
+        rows = list(csv.DictReader(handle))
+    times = [float(row["time"]) for row in rows]
+
+    def mean(name: str) -> float:
+        return window_mean(times, [float(row[f"pressure_{name}"]) for row in rows], start, end)
+
+    ratios = {column: mean(f"s{k}") / (rho_g * (surface - y))
+              for k, (column, y) in enumerate(zip(RATIOS, SENSOR_HEIGHTS))}
+    deviations = [abs(ratio - 1.0) for ratio in ratios.values()]
+    return dict(ratios, dry=mean("dry"), worst=max(deviations),
+                within_1pct=sum(deviation < TARGET for deviation in deviations))
+
+
+def row_of(request: runner.CaseRequest, result: runner.CaseResult, window: tuple[float, float]) -> dict:
+    summary = run_summary(request.folder)
+    status = summary.get("status", "unknown") if summary is not None else result.describe()
+    row = dict(request.extra, status=status)
+    if status == "completed":
+        row.update(sensor_ratios(request.folder, *window))
+    return row
+
+
+def method_lines(method: str, rows: list[dict], promise: str) -> list[str]:
+    """The markdown of one method: a row per model and realisation, then the method's summary."""
+    lines = []
+    for row in rows:
+        if row["status"] != "completed":
+            lines.append(f"| {method} | {row['boundary_model']} | {row['realisation']} | {row['status']} | | | |")
+            continue
+        ratios = " | ".join(f"{row[column]:.5f}" for column in RATIOS)
+        lines.append(f"| {method} | {row['boundary_model']} | {row['realisation']} | {ratios} | {row['within_1pct']} |")
+    done = [row for row in rows if row["status"] == "completed"]
+    values = [row[column] for row in done for column in RATIOS]
+    if values:
+        within = sum(row["within_1pct"] for row in done)
+        lines.append(f"| **{method}** | **all** | | **{min(values):.5f}–{max(values):.5f}** | | | "
+                     f"**{within} of {len(values)}** ({promise}) |")
+    return lines
+
+
+def promise_text(promise: float | None, load_setting: bool) -> str:
+    if not load_setting:
+        return "the defaults: no promise"
+    return f"promise {100 * promise:g} %" if promise is not None else "no promise declared"
+
+
+def table(rows: list[dict], promises: dict, window: tuple[float, float], load_setting: bool) -> str:
+    lines = [f"Still water: sensor mean over [{window[0]:g}, {window[1]:g}] s / (rho g h), "
+             "h = 0.225, 0.15, 0.075 m", "",
+             "| method | boundary model | realisation | h = 0.225 m | 0.15 m | 0.075 m | within 1 % |",
+             "|---|---|---|---|---|---|---|"]
+    for method in sorted({row["method"] for row in rows}):
+        mine = sorted((row for row in rows if row["method"] == method),
+                      key=lambda row: (row["boundary_model"], row["realisation"]))
+        lines += method_lines(method, mine, promise_text(promises.get(method), load_setting))
+    return "\n".join(lines) + "\n"
+
+
+def still_water(out: str, binary: str, methods: list[str] | None, realisations: int, end_time: float,
+                window: tuple[float, float], load_setting: bool, overrides: list[str], parallel: int,
+                timeout: float = DEFAULT_TIMEOUT) -> tuple[str, list[dict]]:
+    """Run every case, write still_water.csv and still_water.md; returns the markdown and the rows."""
+    catalogue = method_catalogue(binary)
+    wanted = methods or sorted(catalogue)
+    check_methods(wanted, sorted(catalogue), "--methods")
+    os.makedirs(out, exist_ok=True)
+    rows = []
+    for request, result in runner.run_cases(binary, requests(out, catalogue, wanted, realisations, end_time,
+                                                             load_setting, overrides),
+                                            parallel=parallel, timeout=timeout,
+                                            threads=runner.threads_per_case(parallel)):
+        row = row_of(request, result, window)
+        rows.append(row)
+        print(f"{request.name}: {row['status']}" + "".join(
+            f" {row[column]:.4f}" for column in RATIOS if column in row), flush=True)
+    rows.sort(key=lambda row: (row["method"], row["boundary_model"], row["realisation"]))
+    write_csv(rows, COLUMNS, os.path.join(out, "still_water.csv"))
+    promises = {name: info.still_water_promise for name, info in catalogue.items()}
+    markdown = table(rows, promises, window, load_setting)
+    with open(os.path.join(out, "still_water.md"), "w") as handle:
+        handle.write(markdown)
+    return markdown, rows

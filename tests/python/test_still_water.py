@@ -1,0 +1,116 @@
+"""The still-water study (analysis/still_water.py): the window mean and the ratios on synthetic
+runs with known answers, the promise read from the binary's listing, a short real study of one
+method with every boundary model it supports, and bad input. Run by CTest; MPS_LAB_BINARY names
+build/mps_lab."""
+from __future__ import annotations
+
+import csv
+import json
+import math
+import os
+import shutil
+import subprocess
+import sys
+import tempfile
+import unittest
+
+ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+sys.path.insert(0, os.path.join(ROOT, "analysis"))
+from mps_lab import methods  # noqa: E402
+from mps_lab.studies import still_water  # noqa: E402
+
+BINARY = os.environ.get("MPS_LAB_BINARY", os.path.join(ROOT, "build", "mps_lab"))
+RHO, G, L0 = 1000.0, 9.81, 0.025
+TOP_ROW = 0.275  # m, the tank's top row of particle centres; the lattice's top edge is 0.2875 m
+
+
+def write_case(folder: str, scale: float, times: list[float]) -> None:
+    """A finished case: run.json's shared values, a first frame whose top fluid row is TOP_ROW (a
+    wall particle higher up must be ignored) and series rows with p = scale rho g h at each
+    sensor and 0 at the dry one."""
+    os.makedirs(folder)
+    with open(os.path.join(folder, "run.json"), "w") as handle:
+        json.dump({"status": "completed",
+                   "shared": {"density": RHO, "gravity": [0.0, -G], "particle_spacing": L0}}, handle)
+    with open(os.path.join(folder, "output_000000.csv"), "w") as handle:
+        handle.write("x,y,vx,vy,pressure,type\n0.025,0.025,0,0,0,0\n0.025,0.275,0,0,0,0\n0,0.5,0,0,0,1\n")
+    surface = TOP_ROW + 0.5 * L0
+    with open(os.path.join(folder, "series.csv"), "w", newline="") as handle:
+        writer = csv.writer(handle)
+        writer.writerow(["time", "pressure_s0", "pressure_s1", "pressure_s2", "pressure_dry"])
+        for t in times:
+            writer.writerow([t] + [scale * RHO * G * (surface - y) for y in still_water.SENSOR_HEIGHTS] + [0.0])
+
+
+class StillWaterTest(unittest.TestCase):
+    def setUp(self):
+        self.folder = tempfile.mkdtemp(prefix="mps_lab_still_water_")
+
+    def tearDown(self):
+        shutil.rmtree(self.folder, ignore_errors=True)
+
+    def test_window_mean_weights_each_row_by_its_overlap(self):
+        # Rows at t = 0, 1, 2, 3 holding the means 10 (0, 1], 20 (1, 2], 40 (2, 3]: over [0.5, 2.5]
+        # 0.5 of 10, 1 of 20 and 0.5 of 40, i.e. (5 + 20 + 20) / 2 = 22.5.
+        self.assertAlmostEqual(still_water.window_mean([0, 1, 2, 3], [0, 10, 20, 40], 0.5, 2.5), 22.5, places=12)
+        self.assertAlmostEqual(still_water.window_mean([0, 1, 2, 3], [0, 10, 20, 40], 0.0, 3.0), 70 / 3, places=12)
+        self.assertTrue(math.isnan(still_water.window_mean([0, 1], [0, 5], 2.0, 3.0)))  # no row in the window
+
+    def test_ratios_of_an_exact_and_a_scaled_hydrostatic_field(self):
+        # Depths below the lattice's top edge 0.2875 m: 0.225, 0.15, 0.075 m. The exact field reads
+        # 1 to round-off at every sensor (3 within 1 %), a field 0.98 of it reads 0.98 (none within).
+        for scale, within in ((1.0, 3), (0.98, 0)):
+            folder = os.path.join(self.folder, f"case_{scale}")
+            write_case(folder, scale, [0.0, 0.25, 0.5, 1.0, 2.0, 3.0])
+            ratios = still_water.sensor_ratios(folder, 0.5, 3.0)
+            for column in still_water.RATIOS:
+                self.assertAlmostEqual(ratios[column], scale, places=12)
+            self.assertEqual(ratios["dry"], 0.0)
+            self.assertEqual(ratios["within_1pct"], within)
+            self.assertAlmostEqual(ratios["worst"], abs(scale - 1.0), places=12)
+
+    def test_promise_read_from_the_listing(self):
+        listing = ("isph   incompressible SPH\n"
+                   "    load setting (--load-setting): --set methods.isph.x=1; promise: still water within 2 % of "
+                   "rho g h (measured within 1.6 %)\n"
+                   "    wall treatment adami_wall_particles (boundary model, on by default): walls\n"
+                   "nopromise   a method without a load setting\n")
+        catalogue = methods.parse_catalogue(listing)
+        self.assertAlmostEqual(catalogue["isph"].still_water_promise, 0.02, places=15)
+        self.assertEqual(catalogue["isph"].boundary_models, ["adami_wall_particles"])
+        self.assertIsNone(catalogue["nopromise"].still_water_promise)
+
+    def test_short_study_of_one_method_with_every_boundary_model(self):
+        # wcsph to 0.6 s, its sensors over [0.3, 0.6] s: one row per boundary model it supports,
+        # each completed, within the still-water test's guard band [0.75, 1.7] rho g h (a broken
+        # sensor or a lost gravity term falls outside: tests/test_pressure_sensors.cpp), the dry
+        # sensor exactly 0, and the markdown's summary line with the declared promise.
+        out = os.path.join(self.folder, "study")
+        result = subprocess.run([sys.executable, os.path.join(ROOT, "analysis", "still_water.py"), "--out", out,
+                                 "--binary", BINARY, "--methods", "wcsph", "--end-time", "0.6", "--window", "0.3",
+                                 "0.6", "--parallel", "2"], capture_output=True, text=True)
+        self.assertEqual(result.returncode, 0, result.stderr)
+        catalogue = methods.method_catalogue(BINARY)
+        with open(os.path.join(out, "still_water.csv"), newline="") as handle:
+            rows = list(csv.DictReader(handle))
+        self.assertEqual(sorted(row["boundary_model"] for row in rows), sorted(catalogue["wcsph"].boundary_models))
+        for row in rows:
+            self.assertEqual(row["status"], "completed")
+            self.assertEqual(float(row["dry"]), 0.0)
+            for column in still_water.RATIOS:
+                self.assertTrue(0.75 < float(row[column]) < 1.7, row)
+        promise = f"promise {100 * catalogue['wcsph'].still_water_promise:g} %"
+        self.assertIn(promise, result.stdout)
+        self.assertIn(f"of {3 * len(rows)}**", result.stdout)
+
+    def test_bad_input_is_one_line_and_exit_2(self):
+        result = subprocess.run([sys.executable, os.path.join(ROOT, "analysis", "still_water.py"), "--out",
+                                 os.path.join(self.folder, "bad"), "--binary", BINARY, "--methods", "nosuch"],
+                                capture_output=True, text=True)
+        self.assertEqual(result.returncode, 2)
+        self.assertEqual(len(result.stderr.strip().splitlines()), 1, result.stderr)
+        self.assertIn("--methods.nosuch: not a registered method", result.stderr)
+
+
+if __name__ == "__main__":
+    unittest.main()
