@@ -105,9 +105,10 @@ struct FrameFormats {
   bool vtu = false;
 };
 
-// How often a run rewrites series.csv at most (wall time): a rewrite of 20,000 rows takes ~5 ms,
-// so this bounds the cost at ~0.5 % of the run, and a killed run's file lacks at most 1 s of rows
-// (a checkpoint's rows are in checkpoint.bin, and write_summary writes them all).
+// How often a run rewrites series.csv at most (wall time): a rewrite of 3.3 MB (11,600 rows of 19
+// columns) took 5.3 ms on average (measured, 2026-11-29), so a 1 s period bounds the cost near
+// 1 % of the run even for files three times that, and a killed run's file lacks at most 1 s of
+// rows (a checkpoint's rows are in checkpoint.bin, and write_summary writes them all).
 inline constexpr std::chrono::milliseconds kSeriesRewritePeriod{1000};
 
 // Where frames are formatted and written: on RunOutput's background thread (runs), or in the
