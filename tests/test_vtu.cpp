@@ -323,24 +323,30 @@ TEST_CASE("frames written in the background are byte for byte those written in t
 
 TEST_CASE("series.csv is rewritten at most once per period during a run - and whole by write_summary", "[output]") {
   // A run rewrites the whole file (atomically), so a rewrite after every row cost O(rows^2): 94 % of
-  // a 23,000-step run with a row per step (core/io/output.hpp, kSeriesRewritePeriod). The first row
-  // is written at once; the next 199, added within microseconds, wait for the period (1 s); run.json's
-  // write_summary writes all 200 (as a checkpoint's and the run's end do).
-  const auto dir = fresh_directory("series_period");
-  RunOutput output(dir, FrameFormats{true, false, false}, {"step"});
-  output.prepare();
-  const auto rows_on_disk = [&] {
+  // a 23,000-step run with a row per step (core/io/output.hpp, kSeriesRewritePeriod, 1 s). With a
+  // period of an hour the first row is written at once and the next 199 wait; run.json's
+  // write_summary writes all 200 (as a checkpoint's, the run's end and a stop do). With a period of
+  // 0 every row is written as it comes.
+  for (const long long period_ms : {3600000LL, 0LL}) {
+    INFO("period " << period_ms << " ms");
+    const auto dir = fresh_directory("series_period_" + std::to_string(period_ms));
+    RunOutput output(dir, FrameFormats{true, false, false}, {"step"});
+    output.set_series_rewrite_period(std::chrono::milliseconds(period_ms));
+    output.prepare();
+    const auto rows_on_disk = [&] {
+      const std::string text = read_text(dir / "series.csv");
+      return std::count(text.begin(), text.end(), '\n') - 1;  // without the header
+    };
+    for (int step = 0; step < 200; ++step) {
+      output.add_series_row({static_cast<double>(step)});
+      output.write_series_when_due();
+    }
+    CHECK(rows_on_disk() == (period_ms > 0 ? 1 : 200));
+    output.write_summary({{"status", "completed"}});
+    CHECK(rows_on_disk() == 200);
     const std::string text = read_text(dir / "series.csv");
-    return std::count(text.begin(), text.end(), '\n') - 1;  // without the header
-  };
-  for (int step = 0; step < 200; ++step) {
-    output.add_series_row({static_cast<double>(step)});
-    output.write_series_when_due();
+    CHECK(text.substr(text.size() - 4) == "199\n");
   }
-  CHECK(rows_on_disk() == 1);
-  output.write_summary({{"status", "completed"}});
-  CHECK(rows_on_disk() == 200);
-  CHECK(read_text(dir / "series.csv").rfind("199\n") == read_text(dir / "series.csv").size() - 4);
 }
 
 TEST_CASE("a background write that fails is a one-line OutputError naming the file at the next call", "[output]") {

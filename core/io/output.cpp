@@ -570,7 +570,7 @@ void RunOutput::write_series() {
 void RunOutput::write_series_when_due() {
   rethrow_write_failure();
   if (series_written_at_ != std::chrono::steady_clock::time_point{} &&
-      std::chrono::steady_clock::now() - series_written_at_ < kSeriesRewritePeriod) {
+      std::chrono::steady_clock::now() - series_written_at_ < series_rewrite_period_) {
     return;
   }
   write_series();

@@ -147,6 +147,8 @@ class RunOutput {
   // (94 % of a 23,000-step run with a row per step, 2026-11-29). write_summary() always writes
   // it, so the file is complete whenever run.json is written (a checkpoint, the run's end, a stop).
   void write_series_when_due();
+  // The period write_series_when_due() keeps (kSeriesRewritePeriod unless set; tests set it).
+  void set_series_rewrite_period(std::chrono::milliseconds period) { series_rewrite_period_ = period; }
   void write_summary(const nlohmann::json& summary);  // series.csv and run.json, after flush()
 
   // Checkpoints: the series rows so far and the frames written (core/io/checkpoint.hpp).
@@ -177,6 +179,7 @@ class RunOutput {
   std::string series_text_;
   bool series_unwritten_ = true;  // rows added (or restored) since series.csv was last written
   std::chrono::steady_clock::time_point series_written_at_{};
+  std::chrono::milliseconds series_rewrite_period_ = kSeriesRewritePeriod;
   std::vector<FrameRecord> frames_;  // every frame handed over, in order (the indexes list them)
   std::unique_ptr<FrameWriter> writer_;
 };
