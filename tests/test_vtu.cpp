@@ -322,7 +322,7 @@ TEST_CASE("frames written in the background are byte for byte those written in t
 }
 
 TEST_CASE("series.csv is rewritten at most once per period during a run - and whole by write_summary", "[output]") {
-  // A run rewrites the whole file (atomically), so a rewrite after every row cost O(rows^2): 94 % of
+  // A run rewrites the whole file (atomically), so a rewrite after every row cost O(rows^2): 89-90 % of
   // a 23,000-step run with a row per step (core/io/output.hpp, kSeriesRewritePeriod, 1 s). With a
   // period of an hour the first row is written at once and the next 199 wait; run.json's
   // write_summary writes all 200 (as a checkpoint's, the run's end and a stop do). With a period of

@@ -144,7 +144,7 @@ class RunOutput {
   void write_series();
   // write_series() when kSeriesRewritePeriod of wall time has passed since the last rewrite (or
   // none was made): the file is rewritten whole, so a rewrite after every row cost O(rows^2)
-  // (94 % of a 23,000-step run with a row per step, 2026-11-29). write_summary() always writes
+  // (89-90 % of a 23,000-step run with a row per step, 2026-11-29). write_summary() always writes
   // it, so the file is complete whenever run.json is written (a checkpoint, the run's end, a stop).
   void write_series_when_due();
   // The period write_series_when_due() keeps (kSeriesRewritePeriod unless set; tests set it).
