@@ -69,6 +69,36 @@ class StillWaterTest(unittest.TestCase):
             self.assertEqual(ratios["within_1pct"], within)
             self.assertAlmostEqual(ratios["worst"], abs(scale - 1.0), places=12)
 
+    def test_expected_reading_and_its_verdict(self):
+        # Two readings a and b: mean (a + b) / 2, sample deviation |a - b| / sqrt(2), standard error
+        # |a - b| / 2. The verdict compares |mean - 1| with 1 % two standard errors apart.
+        cases = (([1.0, 1.004], 1.002, 0.002, "within"),      # 0.002 + 0.004 < 0.01
+                 ([1.0, 1.012], 1.006, 0.006, "undecided"),   # 0.006 + 0.012 > 0.01 > 0.006 - 0.012
+                 ([0.985, 0.987], 0.986, 0.001, "outside"),   # 0.014 - 0.002 > 0.01
+                 ([0.985, 0.995], 0.990, 0.005, "undecided"),  # 0.010 - 0.010 < 0.01
+                 ([1.004, 1.004, 1.004], 1.004, 0.0, "within"),  # a deterministic method: no spread
+                 ([1.011, 1.011], 1.011, 0.0, "outside"))
+        for values, mean, error, verdict in cases:
+            got = still_water.expected_reading(values)
+            self.assertAlmostEqual(got[0], mean, places=12, msg=values)
+            self.assertAlmostEqual(got[1], error, places=12, msg=values)
+            self.assertEqual(got[2], verdict, values)
+
+    def test_expectations_group_completed_realisations(self):
+        # isph/walls: two completed realisations and a failed one (left out); isph/lone: one
+        # realisation, no expectation.
+        def row(model, realisation, status, value):
+            return dict({"method": "isph", "boundary_model": model, "realisation": realisation, "status": status},
+                        **{column: value for column in still_water.RATIOS})
+        rows = [row("walls", 0, "completed", 0.985), row("walls", 1, "stopped", 0.5),
+                row("walls", 2, "completed", 0.987), row("lone", 0, "completed", 1.0)]
+        entries = still_water.expectations(rows)
+        self.assertEqual([(e["boundary_model"], e["realisations"]) for e in entries], [("walls", 2)])
+        for column in still_water.RATIOS:
+            self.assertAlmostEqual(entries[0][f"mean_{column}"], 0.986, places=12)
+            self.assertEqual(entries[0][f"verdict_{column}"], "outside")
+        self.assertIn("**0 within, 3 outside, 0 undecided**", still_water.expectation_table(entries))
+
     def test_promise_read_from_the_listing(self):
         listing = ("isph   incompressible SPH\n"
                    "    load setting (--load-setting): --set methods.isph.x=1; promise: still water within 2 % of "
@@ -84,16 +114,18 @@ class StillWaterTest(unittest.TestCase):
         # wcsph to 0.6 s, its sensors over [0.3, 0.6] s: one row per boundary model it supports,
         # each completed, within the still-water test's guard band [0.75, 1.7] rho g h (a broken
         # sensor or a lost gravity term falls outside: tests/test_pressure_sensors.cpp), the dry
-        # sensor exactly 0, and the markdown's summary line with the declared promise.
+        # sensor exactly 0, and the markdown's summary line with the declared promise. Two
+        # realisations: wcsph's water comes to rest, so they agree (standard error below 1e-6).
         out = os.path.join(self.folder, "study")
         result = subprocess.run([sys.executable, os.path.join(ROOT, "analysis", "still_water.py"), "--out", out,
                                  "--binary", BINARY, "--methods", "wcsph", "--end-time", "0.6", "--window", "0.3",
-                                 "0.6", "--parallel", "2"], capture_output=True, text=True)
+                                 "0.6", "--parallel", "2", "--realisations", "2"], capture_output=True, text=True)
         self.assertEqual(result.returncode, 0, result.stderr)
         catalogue = methods.method_catalogue(BINARY)
         with open(os.path.join(out, "still_water.csv"), newline="") as handle:
             rows = list(csv.DictReader(handle))
-        self.assertEqual(sorted(row["boundary_model"] for row in rows), sorted(catalogue["wcsph"].boundary_models))
+        self.assertEqual(sorted(row["boundary_model"] for row in rows),
+                         sorted(2 * catalogue["wcsph"].boundary_models))
         for row in rows:
             self.assertEqual(row["status"], "completed")
             self.assertEqual(float(row["dry"]), 0.0)
@@ -102,6 +134,15 @@ class StillWaterTest(unittest.TestCase):
         promise = f"promise {100 * catalogue['wcsph'].still_water_promise:g} %"
         self.assertIn(promise, result.stdout)
         self.assertIn(f"of {3 * len(rows)}**", result.stdout)
+        with open(os.path.join(out, "still_water_expected.csv"), newline="") as handle:
+            expected = list(csv.DictReader(handle))
+        self.assertEqual(sorted(row["boundary_model"] for row in expected), sorted(catalogue["wcsph"].boundary_models))
+        for row in expected:
+            self.assertEqual(row["realisations"], "2")
+            for column in still_water.RATIOS:
+                self.assertLess(float(row[f"se_{column}"]), 1e-6, row)
+                self.assertIn(row[f"verdict_{column}"], ("within", "outside"), row)
+        self.assertIn("Expected reading over the realisations", result.stdout)
 
     def test_bad_input_is_one_line_and_exit_2(self):
         result = subprocess.run([sys.executable, os.path.join(ROOT, "analysis", "still_water.py"), "--out",

@@ -25,7 +25,12 @@ rho |g| h with the run's own density and gravity. Methods and models are read fr
 ratios (ratio_h0225, ratio_h0150, ratio_h0075), dry (the dry sensor's mean, Pa: 0 unless
 broken), worst (the largest |ratio - 1|) and within_1pct (sensors within 1 %).
 <out>/still_water.md: per method the ratios of every model and realisation, the range, how many
-sensors are within 1 %, and the method's promise (its load setting's tolerance)."""
+sensors are within 1 %, and the method's promise (its load setting's tolerance).
+With two or more realisations, <out>/still_water_expected.csv and a second table in the markdown:
+each sensor's expected reading over the realisations, mean ± standard error, and its verdict on
+the 1 % target (within or outside by more than two standard errors, else undecided). A method whose
+water never comes to rest reads differently in each realisation, and one run's miss may be its
+noise; a deterministic one reads the same in all (standard error 0) and its misses are its own."""
 from __future__ import annotations
 
 import csv
@@ -146,6 +151,61 @@ def method_lines(method: str, rows: list[dict], promise: str) -> list[str]:
     return lines
 
 
+def expected_reading(values: list[float]) -> tuple[float, float, str]:
+    """One sensor of one method and model over its realisations: the mean reading, its standard
+    error (sample standard deviation / sqrt(N)) and the verdict on the 1 % target: "within" or
+    "outside" when |mean - 1| is below or above 1 % by more than two standard errors, else
+    "undecided" (the realisations do not tell)."""
+    mean = sum(values) / len(values)
+    spread = math.sqrt(sum((value - mean) ** 2 for value in values) / (len(values) - 1))
+    error = spread / math.sqrt(len(values))
+    deviation = abs(mean - 1.0)
+    verdict = ("within" if deviation + 2.0 * error < TARGET else
+               "outside" if deviation - 2.0 * error > TARGET else "undecided")
+    return mean, error, verdict
+
+
+def expectations(rows: list[dict]) -> list[dict]:
+    """Per method and model with two or more completed realisations: each sensor's expected reading
+    (expected_reading) as mean_<ratio>, se_<ratio> and verdict_<ratio>."""
+    grouped: dict[tuple[str, str], list[dict]] = {}
+    for row in rows:
+        if row["status"] == "completed":
+            grouped.setdefault((row["method"], row["boundary_model"]), []).append(row)
+    result = []
+    for (method, model), mine in sorted(grouped.items()):
+        if len(mine) < 2:
+            continue
+        entry = {"method": method, "boundary_model": model, "realisations": len(mine)}
+        for column in RATIOS:
+            mean, error, verdict = expected_reading([row[column] for row in mine])
+            entry.update({f"mean_{column}": mean, f"se_{column}": error, f"verdict_{column}": verdict})
+        result.append(entry)
+    return result
+
+
+EXPECTED_COLUMNS = ["method", "boundary_model", "realisations",
+                    *(f"{kind}_{column}" for column in RATIOS for kind in ("mean", "se", "verdict"))]
+
+
+def expectation_table(entries: list[dict]) -> str:
+    """The markdown of the expected readings, a line per method and model, then per method the
+    sensors within, outside and undecided."""
+    lines = ["", "Expected reading over the realisations (mean ± standard error) and its verdict on 1 %: "
+             "within or outside by more than two standard errors, else undecided", "",
+             "| method | boundary model | realisations | h = 0.225 m | 0.15 m | 0.075 m |", "|---|---|---|---|---|---|"]
+    for method in sorted({entry["method"] for entry in entries}):
+        mine = [entry for entry in entries if entry["method"] == method]
+        for entry in mine:
+            cells = " | ".join(f"{entry['mean_' + column]:.4f} ± {entry['se_' + column]:.4f} "
+                               f"{entry['verdict_' + column]}" for column in RATIOS)
+            lines.append(f"| {method} | {entry['boundary_model']} | {entry['realisations']} | {cells} |")
+        verdicts = [entry[f"verdict_{column}"] for entry in mine for column in RATIOS]
+        counts = ", ".join(f"{verdicts.count(kind)} {kind}" for kind in ("within", "outside", "undecided"))
+        lines.append(f"| **{method}** | **all** | | **{counts}** | | |")
+    return "\n".join(lines) + "\n"
+
+
 def promise_text(promise: float | None, load_setting: bool) -> str:
     if not load_setting:
         return "the defaults: no promise"
@@ -185,6 +245,10 @@ def still_water(out: str, binary: str, methods: list[str] | None, realisations: 
     write_csv(rows, COLUMNS, os.path.join(out, "still_water.csv"))
     promises = {name: info.still_water_promise for name, info in catalogue.items()}
     markdown = table(rows, promises, window, load_setting)
+    expected = expectations(rows)
+    if expected:
+        write_csv(expected, EXPECTED_COLUMNS, os.path.join(out, "still_water_expected.csv"))
+        markdown += expectation_table(expected)
     with open(os.path.join(out, "still_water.md"), "w") as handle:
         handle.write(markdown)
     return markdown, rows
