@@ -21,7 +21,9 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--set", dest="overrides", action="append", default=[], metavar="KEY=VALUE",
                         help="a scene override after the load setting and the model (repeatable)")
     parser.add_argument("--defaults", action="store_true", help="without the methods' load settings")
-    parser.add_argument("--realisations", type=int, default=1, help="runs per case, gravity scaled by 1 + k 1e-10 (2 or more: each sensor's expected reading, mean ± standard error, and its verdict on 1 %%)")
+    parser.add_argument("--realisations", type=int, default=1,
+                        help="runs per case, gravity scaled by 1 + k 1e-10 (2 or more: each sensor's expected "
+                             "reading, mean ± standard error, and its verdict on 1 %%)")
     parser.add_argument("--end-time", type=float, default=3.0, help="s (the load-setting test's 3 s)")
     parser.add_argument("--window", type=float, nargs=2, default=(0.5, 3.0), metavar=("FROM", "TO"),
                         help="s, the window of the sensors' means (the load-setting test's [0.5, 3])")
