@@ -143,6 +143,8 @@ class StillWaterTest(unittest.TestCase):
                 self.assertLess(float(row[f"se_{column}"]), 1e-6, row)
                 self.assertIn(row[f"verdict_{column}"], ("within", "outside"), row)
         self.assertIn("Expected reading over the realisations", result.stdout)
+        with open(os.path.join(out, "still_water_expected.png"), "rb") as handle:
+            self.assertEqual(handle.read(8), b"\x89PNG\r\n\x1a\n")  # the figure, a PNG
 
     def test_bad_input_is_one_line_and_exit_2(self):
         result = subprocess.run([sys.executable, os.path.join(ROOT, "analysis", "still_water.py"), "--out",

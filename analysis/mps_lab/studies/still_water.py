@@ -26,7 +26,8 @@ ratios (ratio_h0225, ratio_h0150, ratio_h0075), dry (the dry sensor's mean, Pa: 
 broken), worst (the largest |ratio - 1|) and within_1pct (sensors within 1 %).
 <out>/still_water.md: per method the ratios of every model and realisation, the range, how many
 sensors are within 1 %, and the method's promise (its load setting's tolerance).
-With two or more realisations, <out>/still_water_expected.csv and a second table in the markdown:
+With two or more realisations, <out>/still_water_expected.csv, its figure
+<out>/still_water_expected.png and a second table in the markdown:
 each sensor's expected reading over the realisations, mean ± standard error, and its verdict on
 the 1 % target (within or outside by more than two standard errors, else undecided). A method whose
 water never comes to rest reads differently in each realisation, and one run's miss may be its
@@ -208,6 +209,41 @@ def expectation_table(entries: list[dict]) -> str:
     return "\n".join(lines) + "\n"
 
 
+SENSOR_MARKERS = {"ratio_h0225": ("o", "h = 0.225 m"), "ratio_h0150": ("s", "h = 0.15 m"),
+                  "ratio_h0075": ("^", "h = 0.075 m")}
+VERDICT_COLOURS = {"within": "tab:green", "outside": "tab:red", "undecided": "tab:orange"}
+
+
+def plot_expectations(entries: list[dict], path: str) -> None:
+    """still_water_expected.png: each sensor's expected reading per method and model, with two
+    standard errors as bars, coloured by its verdict, against the 1 % band."""
+    from .. import figures  # noqa: F401  (sets the shared style)
+    import matplotlib.pyplot as plt
+
+    fig, ax = plt.subplots(figsize=(max(6.4, 0.55 * len(entries) + 2.0), 4.8))
+    ax.axhspan(1.0 - TARGET, 1.0 + TARGET, color="0.85", zorder=0, label="within 1 %")
+    for slot, entry in enumerate(entries):
+        for k, (column, (marker, _)) in enumerate(SENSOR_MARKERS.items()):
+            colour = VERDICT_COLOURS[entry[f"verdict_{column}"]]
+            ax.errorbar(slot + (k - 1) * 0.22, entry[f"mean_{column}"], yerr=2.0 * entry[f"se_{column}"],
+                        marker=marker, color=colour, markersize=5, capsize=2, linestyle="none")
+    ax.set_xticks(range(len(entries)))
+    ax.set_xticklabels([f"{entry['method']}\n{entry['boundary_model']}" for entry in entries], rotation=90,
+                       fontsize=8)
+    ax.set_ylabel("mean / ρ g h (bars: ± 2 standard errors)")
+    realisations = sorted({entry["realisations"] for entry in entries})
+    ax.set_title(f"Still water at the wall sensors: expected readings ({'/'.join(map(str, realisations))} "
+                 "realisations)")
+    handles = [plt.Line2D([], [], marker=marker, color="k", linestyle="none", label=label)
+               for marker, label in SENSOR_MARKERS.values()]
+    handles += [plt.Line2D([], [], marker="o", color=colour, linestyle="none", label=verdict)
+                for verdict, colour in VERDICT_COLOURS.items()]
+    ax.legend(handles=handles, loc="lower left", ncol=2, fontsize=8)
+    fig.tight_layout()
+    fig.savefig(path)
+    plt.close(fig)
+
+
 def promise_text(promise: float | None, load_setting: bool) -> str:
     if not load_setting:
         return "the defaults: no promise"
@@ -250,6 +286,7 @@ def still_water(out: str, binary: str, methods: list[str] | None, realisations: 
     expected = expectations(rows)
     if expected:
         write_csv(expected, EXPECTED_COLUMNS, os.path.join(out, "still_water_expected.csv"))
+        plot_expectations(expected, os.path.join(out, "still_water_expected.png"))
         markdown += expectation_table(expected)
     with open(os.path.join(out, "still_water.md"), "w") as handle:
         handle.write(markdown)
