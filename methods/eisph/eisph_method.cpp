@@ -480,7 +480,7 @@ void mps_lab_register_method_eisph(mps_lab::MethodRegistry& registry) {
       0.03,
       "measured within 2.3 % (0.977-1.004) over [0.5, 3] s at the tank's l0 = 0.025 m (one Jacobi sweep per step: "
       "the shallow sensor sinks over the run; dry_wall_points excluded since 2026-11-29, before: 3.5 %, promise 4 %), "
-      "docs/validation.md"};
+      "the same in each of 24 realisations, docs/validation.md"};
   info.wall_hooks = eisph::kWallHooks;
   const auto time_step_specs =
       time_step_parameters({"cfl", 0.2, 1.0e-6, 2.0e-3,

@@ -597,7 +597,7 @@ void mps_lab_register_method_isph(mps_lab::MethodRegistry& registry) {
                        0.02,
                        "measured within 1.6 % (0.984-1.006; 1 % but for the shallow sensor with "
                        "dummy_layers and distance_function, whose still water starts to move after 1.5 s) "
-                       "over [0.5, 3] s, docs/validation.md"};
+                       "over [0.5, 3] s, the same in each of 24 realisations, docs/validation.md"};
   info.wall_hooks = isph::kWallHooks;
   // The step: the scene's fixed step by default (as mps); "cfl" adapts it to the flow. 0.25
   // keeps a margin below the largest stable fixed Courant number 0.4 measured with

@@ -463,7 +463,7 @@ void mps_lab_register_method_wcsph(mps_lab::MethodRegistry& registry) {
   info.load_setting = {{{"sound_speed_factor", "20"}, {"sound_speed", "0"}},
                        0.01,
                        "measured within 0.7 % (0.999-1.007) with every boundary model over [0.5, 3] s, "
-                       "docs/validation.md"};
+                       "the same in each of 24 realisations, docs/validation.md"};
   info.wall_hooks = wcsph::kWallHooks;
   const auto time_step_specs = time_step_parameters(
       {"cfl", 0.25, 1.0e-7, 1.0e-3, "0.25: a factor 3 below the largest stable 0.8 (docs/methods/wcsph.md)",
