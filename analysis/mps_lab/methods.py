@@ -24,6 +24,8 @@ WALL_TREATMENT_LINE = re.compile(r"^\s+wall treatment (\S+) \((boundary model|me
 # The load setting's line (app/commands.cpp): "load setting (--load-setting): --set ...; promise: still
 # water within 2 % of rho g h (...)".
 PROMISE_LINE = re.compile(r"^\s+load setting \(--load-setting\):.*; promise: still water within ([0-9.]+) % of rho g h")
+# A declared parameter's line (app/commands.cpp): "methods.<method>.<key> = <default> [unit]  (...)".
+PARAMETER_LINE = re.compile(r"^\s+methods\.[A-Za-z0-9_]+\.([A-Za-z0-9_]+) = (\S+)")
 
 
 class MethodListError(Exception):
@@ -60,6 +62,7 @@ class MethodInfo:
     default_boundary_model: str = ""  # the one on by default ("" when none is)
     measures: list[str] = field(default_factory=list)  # the wall measures it supports
     still_water_promise: float | None = None  # its load setting's still-water tolerance (0.02: 2 %), if declared
+    parameter_defaults: dict[str, str] = field(default_factory=dict)  # key -> its listed default, as text
 
 
 def parse_catalogue(listing: str) -> dict[str, MethodInfo]:
@@ -76,6 +79,10 @@ def parse_catalogue(listing: str) -> dict[str, MethodInfo]:
         promise = PROMISE_LINE.match(line)
         if current is not None and promise is not None:
             current.still_water_promise = float(promise.group(1)) / 100.0
+            continue
+        parameter = PARAMETER_LINE.match(line)
+        if current is not None and parameter is not None:
+            current.parameter_defaults[parameter.group(1)] = parameter.group(2)
             continue
         treatment = WALL_TREATMENT_LINE.match(line)
         if current is None or treatment is None:

@@ -16,7 +16,7 @@ import unittest
 
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 sys.path.insert(0, os.path.join(ROOT, "analysis"))
-from mps_lab import methods  # noqa: E402
+from mps_lab import methods, runner  # noqa: E402
 from mps_lab.studies import still_water  # noqa: E402
 
 BINARY = os.environ.get("MPS_LAB_BINARY", os.path.join(ROOT, "build", "mps_lab"))
@@ -99,16 +99,50 @@ class StillWaterTest(unittest.TestCase):
             self.assertEqual(entries[0][f"verdict_{column}"], "outside")
         self.assertIn("**0 within, 3 outside, 0 undecided**", still_water.expectation_table(entries))
 
+    def test_spacing_scales_the_step_and_keeps_the_sensors_on_the_wall_surface(self):
+        # The scene: l0 = 0.025 m, dt = 5e-4 s, fluid from x = l0, wall's first line at x = 0, so
+        # the wall surface is x = l0/2. At l0 = 0.0125 m: dt 2.5e-4 s and the sensors at x = 6.25 mm.
+        finer = still_water.case_arguments("mps", "dummy_layers", 0, "out", 3.0, True, [], 0.0125, 2e-3)
+        self.assertIn("particle_spacing=0.0125", finer)
+        self.assertIn("methods.mps.max_time_step=0.001", finer)  # the method's step bound, halved too
+        step = [item for item in finer if item.startswith("time.time_step=")]
+        self.assertEqual(len(step), 1)
+        self.assertAlmostEqual(float(step[0].split("=")[1]), 2.5e-4, places=15)
+        self.assertIn('"position": [0.00625, 0.0625]', " ".join(finer))
+        scene = still_water.case_arguments("mps", "dummy_layers", 0, "out", 3.0, True, [])
+        self.assertFalse(any(item.startswith(("particle_spacing=", "time.time_step=", "methods.mps.max_time_step"))
+                             for item in scene))
+        self.assertIn('"position": [0.0125, 0.0625]', " ".join(scene))
+        # A later --set still wins: it comes after the spacing's overrides.
+        override = still_water.case_arguments("mps", "dummy_layers", 0, "out", 3.0, True, ["time.time_step=1e-4"],
+                                              0.0125, 2e-3)
+        self.assertGreater(override.index("time.time_step=1e-4"), finer.index(step[0]))
+
+    def test_step_bound_is_the_scene_s_else_the_declared_default(self):
+        # scenes/hydrostatic.json sets eisph's bound (2e-3 s); wcsph's comes from the listing.
+        info = methods.MethodInfo("x", "", parameter_defaults={"max_time_step": "0.001"})
+        self.assertEqual(still_water.step_bound(info, "eisph"), 2e-3)
+        self.assertEqual(still_water.step_bound(info, "wcsph"), 1e-3)
+        self.assertIsNone(still_water.step_bound(methods.MethodInfo("x", ""), "wcsph"))
+
+    def test_a_failed_case_says_why(self):
+        # No run.json: the status is the exit and the binary's last error line.
+        result = runner.CaseResult(["mps_lab"], 2, 0.1, "", "starting\nmps_lab: error: scene.json: key: expected x\n")
+        self.assertEqual(still_water.failure(result), "exit 2: mps_lab: error: scene.json: key: expected x")
+        self.assertEqual(still_water.failure(runner.CaseResult(["mps_lab"], 2, 0.1, "", "")), "exit 2")
+
     def test_promise_read_from_the_listing(self):
         listing = ("isph   incompressible SPH\n"
                    "    load setting (--load-setting): --set methods.isph.x=1; promise: still water within 2 % of "
                    "rho g h (measured within 1.6 %)\n"
+                   "    methods.isph.max_time_step = 0.002 s  (a number > 0) upper bound of the CFL step\n"
                    "    wall treatment adami_wall_particles (boundary model, on by default): walls\n"
                    "nopromise   a method without a load setting\n")
         catalogue = methods.parse_catalogue(listing)
         self.assertAlmostEqual(catalogue["isph"].still_water_promise, 0.02, places=15)
         self.assertEqual(catalogue["isph"].boundary_models, ["adami_wall_particles"])
         self.assertIsNone(catalogue["nopromise"].still_water_promise)
+        self.assertEqual(catalogue["isph"].parameter_defaults, {"max_time_step": "0.002"})
 
     def test_short_study_of_one_method_with_every_boundary_model(self):
         # wcsph to 0.6 s, its sensors over [0.3, 0.6] s: one row per boundary model it supports,

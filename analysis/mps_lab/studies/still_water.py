@@ -4,15 +4,18 @@
     /usr/bin/python3 analysis/still_water.py --methods isph --set methods.isph.kernel='"wendland_c2"'
     /usr/bin/python3 analysis/still_water.py --methods eisph --realisations 6 --end-time 3
     /usr/bin/python3 analysis/still_water.py --defaults --window 0.5 1.5 --end-time 1.5  # the defaults' test
+    /usr/bin/python3 analysis/still_water.py --spacing 0.0125 --out runs/still_water_l0_0125  # finer
 
 scenes/hydrostatic.json (l0 = 0.025 m, water 0.275 m deep between the bed's and the lattice's top
-edge) with three sensors on the left wall's first particle line at y = 0.0625, 0.1375 and
+edge) with three sensors on the left wall's surface (x = l0/2) at y = 0.0625, 0.1375 and
 0.2125 m, depths h = 0.225, 0.15 and 0.075 m below the lattice's top edge (the top row of
 particle centres + l0/2, taken from the run's first frame), and a dry sensor at 0.5 m: the
 sensors of tests/test_pressure_sensors.cpp. Each method runs with its load setting
 (`--load-setting`, the setting its promise is for; `--defaults`: without it) and with each
 boundary model it supports (`--set methods.M.wall_treatments={"MODEL":{}}`, as the test), then
-the `--set`s given here. A realisation k > 0 scales gravity by 1 + k 1e-10: far below any
+the `--set`s given here. `--spacing L0` runs the same tank at another particle spacing, with
+the scene's time step scaled by L0/0.025 (methods with a step rule of their own keep it, and their
+bounds); h is then taken below that run's lattice top edge. A realisation k > 0 scales gravity by 1 + k 1e-10: far below any
 physical effect, it draws another realisation of water that never comes to rest
 (docs/validation.md, "Realisations").
 
@@ -23,7 +26,8 @@ rho |g| h with the run's own density and gravity. Methods and models are read fr
 
 <out>/still_water.csv, one row per case: method, boundary_model, realisation, status, the three
 ratios (ratio_h0225, ratio_h0150, ratio_h0075), dry (the dry sensor's mean, Pa: 0 unless
-broken), worst (the largest |ratio - 1|) and within_1pct (sensors within 1 %).
+broken), worst (the largest |ratio - 1|), within_1pct (sensors within 1 %) and particle_spacing
+(m). A case that failed has its exit and the binary's last error line as its status.
 <out>/still_water.md: per method the ratios of every model and realisation, the range, how many
 sensors are within 1 %, and the method's promise (its load setting's tolerance).
 With two or more realisations, <out>/still_water_expected.csv, its figure
@@ -35,6 +39,7 @@ noise; a deterministic one reads the same in all (standard error 0) and its miss
 from __future__ import annotations
 
 import csv
+import json
 import math
 import os
 
@@ -43,26 +48,69 @@ from ..methods import method_catalogue
 from .common import check_methods, run_summary, write_csv
 
 SCENE = os.path.join(SOURCE_ROOT, "scenes", "hydrostatic.json")
-SENSOR_HEIGHTS = (0.0625, 0.1375, 0.2125)  # m, on the left wall's first particle line, x = 0.0125 m
+SENSOR_HEIGHTS = (0.0625, 0.1375, 0.2125)  # m, on the left wall's surface, x = l0/2
 DRY_HEIGHT = 0.5  # m, above the water
 TARGET = 0.01  # issue 14: within 1 % of rho g h
 RATIOS = ["ratio_h0225", "ratio_h0150", "ratio_h0075"]
-COLUMNS = ["method", "boundary_model", "realisation", "status", *RATIOS, "dry", "worst", "within_1pct"]
+COLUMNS = ["method", "boundary_model", "realisation", "status", *RATIOS, "dry", "worst", "within_1pct",
+           "particle_spacing"]
 DEFAULT_TIMEOUT = 600.0  # s per case; a case runs in seconds
 
 
-def sensors_override() -> str:
-    """The scene key of the test's sensors (tests/test_pressure_sensors.cpp, tank_sensors)."""
+def read_scene() -> dict:
+    with open(SCENE) as handle:
+        return json.load(handle)
+
+
+def scene_spacing_and_step() -> tuple[float, float]:
+    """The tank scene's particle spacing l0 (m) and time step (s)."""
+    scene = read_scene()
+    return scene["particle_spacing"], scene["time"]["time_step"]
+
+
+def step_bound(info, method: str) -> float | None:
+    """The method's `max_time_step` on the tank (s): the scene's value, else its declared default
+    (`mps_lab methods -p`); None if it declares none."""
+    scene_value = read_scene().get("methods", {}).get(method, {}).get("max_time_step")
+    if scene_value is not None:
+        return float(scene_value)
+    listed = info.parameter_defaults.get("max_time_step")
+    return float(listed) if listed is not None else None
+
+
+def sensors_override(spacing: float) -> str:
+    """The scene key of the test's sensors (tests/test_pressure_sensors.cpp, tank_sensors), on the
+    left wall's surface: the fluid lattice starts at x = l0 and the wall's first particle line is
+    x = 0, so the surface is x = l0/2 at every spacing."""
     points = [(f"s{k}", y) for k, y in enumerate(SENSOR_HEIGHTS)] + [("dry", DRY_HEIGHT)]
     return "diagnostics.pressure_sensors=[" + ",".join(
-        f'{{"name": "{name}", "position": [0.0125, {y}]}}' for name, y in points) + "]"
+        f'{{"name": "{name}", "position": [{0.5 * spacing!r}, {y}]}}' for name, y in points) + "]"
+
+
+def spacing_overrides(spacing: float | None, method: str, max_step: float | None) -> list[str]:
+    """Another particle spacing for the tank: l0, and the scene's time step and the method's
+    `max_time_step` (max_step, s) scaled with it: a fixed Courant number for the water's own speed
+    scale, the gravity wave's sqrt(g H). (Still water has no speed of its own, so a step rule on
+    v_max sits at its upper bound; unscaled, dfsph's 5e-3 s at l0 = 0.00625 m leaves its density
+    solver unconverged and the tank diverges.)"""
+    if spacing is None:
+        return []
+    scene_spacing, scene_step = scene_spacing_and_step()
+    scale = spacing / scene_spacing
+    overrides = ["--set", f"particle_spacing={spacing!r}", "--set", f"time.time_step={scene_step * scale!r}"]
+    if max_step is not None:
+        overrides += ["--set", f"methods.{method}.max_time_step={max_step * scale!r}"]
+    return overrides
 
 
 def case_arguments(method: str, model: str, realisation: int, folder: str, end_time: float, load_setting: bool,
-                   overrides: list[str]) -> list[str]:
-    """`mps_lab run` of one case: the tank, the method's load setting, the model, every step's row."""
+                   overrides: list[str], spacing: float | None = None, max_step: float | None = None) -> list[str]:
+    """`mps_lab run` of one case: the tank (at `spacing`, else the scene's; max_step: the method's
+    step bound at the scene's spacing, s), the method's load setting, the model, every step's row."""
     arguments = ["run", SCENE, "--method", method, "--out", folder, "--quiet", "--end-time", f"{end_time:g}",
-                 "--set", sensors_override(), "--set", "output.series_every_steps=1",
+                 *spacing_overrides(spacing, method, max_step),
+                 "--set", sensors_override(spacing or scene_spacing_and_step()[0]),
+                 "--set", "output.series_every_steps=1",
                  "--set", "output.frame_every_steps=1000000000", "--set", 'output.formats=["csv"]',
                  "--set", f'methods.{method}.wall_treatments={{"{model}":{{}}}}']
     if load_setting:
@@ -75,14 +123,15 @@ def case_arguments(method: str, model: str, realisation: int, folder: str, end_t
 
 
 def requests(out: str, catalogue: dict, methods: list[str], realisations: int, end_time: float,
-             load_setting: bool, overrides: list[str]):
+             load_setting: bool, overrides: list[str], spacing: float | None = None):
     """One CaseRequest per method x boundary model x realisation."""
     for method in methods:
         for model in catalogue[method].boundary_models:
             for realisation in range(realisations):
                 name = f"{method}__{model}__r{realisation}"
                 folder = os.path.join(out, "cases", name)
-                arguments = case_arguments(method, model, realisation, folder, end_time, load_setting, overrides)
+                arguments = case_arguments(method, model, realisation, folder, end_time, load_setting, overrides,
+                                           spacing, step_bound(catalogue[method], method))
                 yield runner.CaseRequest(name, arguments, folder,
                                          {"method": method, "boundary_model": model, "realisation": realisation})
 
@@ -122,12 +171,20 @@ def sensor_ratios(folder: str, start: float, end: float) -> dict:
               for k, (column, y) in enumerate(zip(RATIOS, SENSOR_HEIGHTS))}
     deviations = [abs(ratio - 1.0) for ratio in ratios.values()]
     return dict(ratios, dry=mean("dry"), worst=max(deviations),
-                within_1pct=sum(deviation < TARGET for deviation in deviations))
+                within_1pct=sum(deviation < TARGET for deviation in deviations),
+                particle_spacing=shared["particle_spacing"])
+
+
+def failure(result: runner.CaseResult) -> str:
+    """A case that wrote no run.json: its exit and the binary's last error line (a bad scene key,
+    say), so that the table says why."""
+    line = result.last_error_line()
+    return result.describe() + (f": {line}" if line else "")
 
 
 def row_of(request: runner.CaseRequest, result: runner.CaseResult, window: tuple[float, float]) -> dict:
     summary = run_summary(request.folder)
-    status = summary.get("status", "unknown") if summary is not None else result.describe()
+    status = summary.get("status", "unknown") if summary is not None else failure(result)
     row = dict(request.extra, status=status)
     if status == "completed":
         row.update(sensor_ratios(request.folder, *window))
@@ -250,9 +307,17 @@ def promise_text(promise: float | None, load_setting: bool) -> str:
     return f"promise {100 * promise:g} %" if promise is not None else "no promise declared"
 
 
+def spacing_text(rows: list[dict]) -> str:
+    """The particle spacings the completed cases ran at, and what h then is."""
+    spacings = sorted({row["particle_spacing"] for row in rows if "particle_spacing" in row})
+    if not spacings or spacings == [scene_spacing_and_step()[0]]:
+        return "h = 0.225, 0.15, 0.075 m"
+    return (f"l0 = {', '.join(f'{value:g}' for value in spacings)} m; h below the lattice's top edge of each run "
+            "(0.225, 0.15, 0.075 m at the scene's l0 = 0.025 m; the columns keep those names)")
+
+
 def table(rows: list[dict], promises: dict, window: tuple[float, float], load_setting: bool) -> str:
-    lines = [f"Still water: sensor mean over [{window[0]:g}, {window[1]:g}] s / (rho g h), "
-             "h = 0.225, 0.15, 0.075 m", "",
+    lines = [f"Still water: sensor mean over [{window[0]:g}, {window[1]:g}] s / (rho g h), " + spacing_text(rows), "",
              "| method | boundary model | realisation | h = 0.225 m | 0.15 m | 0.075 m | within 1 % |",
              "|---|---|---|---|---|---|---|"]
     for method in sorted({row["method"] for row in rows}):
@@ -264,7 +329,7 @@ def table(rows: list[dict], promises: dict, window: tuple[float, float], load_se
 
 def still_water(out: str, binary: str, methods: list[str] | None, realisations: int, end_time: float,
                 window: tuple[float, float], load_setting: bool, overrides: list[str], parallel: int,
-                timeout: float = DEFAULT_TIMEOUT) -> tuple[str, list[dict]]:
+                timeout: float = DEFAULT_TIMEOUT, spacing: float | None = None) -> tuple[str, list[dict]]:
     """Run every case, write still_water.csv and still_water.md; returns the markdown and the rows."""
     catalogue = method_catalogue(binary)
     wanted = methods or sorted(catalogue)
@@ -272,7 +337,7 @@ def still_water(out: str, binary: str, methods: list[str] | None, realisations: 
     os.makedirs(out, exist_ok=True)
     rows = []
     for request, result in runner.run_cases(binary, requests(out, catalogue, wanted, realisations, end_time,
-                                                             load_setting, overrides),
+                                                             load_setting, overrides, spacing),
                                             parallel=parallel, timeout=timeout,
                                             threads=runner.threads_per_case(parallel)):
         row = row_of(request, result, window)
