@@ -27,21 +27,24 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--end-time", type=float, default=3.0, help="s (the load-setting test's 3 s)")
     parser.add_argument("--window", type=float, nargs=2, default=(0.5, 3.0), metavar=("FROM", "TO"),
                         help="s, the window of the sensors' means (the load-setting test's [0.5, 3])")
-    parser.add_argument("--spacing", type=float, metavar="L0",
-                        help="m, the tank at another particle spacing (the scene's time step scaled with it)")
+    parser.add_argument("--spacing", type=float, nargs="+", metavar="L0",
+                        help="m, the tank at these particle spacings (the scene's time step and each method's "
+                             "max_time_step scaled with it; two or more: a resolution table and figure)")
     parser.add_argument("--parallel", type=int, default=os.cpu_count() or 1, help="cases at a time")
     args = parser.parse_args(argv)
     if args.realisations < 1:
         parser.error("--realisations: expected an integer >= 1")
-    if args.spacing is not None and not 0.0 < args.spacing <= 0.05:
+    if args.spacing is not None and not all(0.0 < spacing <= 0.05 for spacing in args.spacing):
         parser.error("--spacing: expected a particle spacing in (0, 0.05] m (the tank is 0.5 m wide)")
+    if args.spacing is not None and len(set(args.spacing)) != len(args.spacing):
+        parser.error("--spacing: expected distinct particle spacings")
     if not 0.0 <= args.window[0] < args.window[1] <= args.end_time:
         parser.error("--window: expected 0 <= FROM < TO <= --end-time")
     try:
         markdown, rows = still_water.still_water(args.out, runner.find_binary(args.binary), args.methods,
                                                  args.realisations, args.end_time, tuple(args.window),
                                                  not args.defaults, args.overrides, max(1, args.parallel),
-                                                 spacing=args.spacing)
+                                                 spacings=args.spacing)
     except (runner.BinaryNotFound, methods.MethodListError, SpecError) as error:
         print(f"still_water.py: {error}", file=sys.stderr)
         return 2

@@ -125,6 +125,24 @@ class StillWaterTest(unittest.TestCase):
         self.assertEqual(still_water.step_bound(info, "wcsph"), 1e-3)
         self.assertIsNone(still_water.step_bound(methods.MethodInfo("x", ""), "wcsph"))
 
+    def test_requests_per_spacing_and_the_resolution_table(self):
+        catalogue = {"isph": methods.MethodInfo("isph", "", boundary_models=["dummy_layers"],
+                                                parameter_defaults={"max_time_step": "0.002"})}
+        names = [(request.name, request.extra["particle_spacing"])
+                 for request in still_water.requests("out", catalogue, ["isph"], 1, 3.0, True, [], [0.025, 0.0125])]
+        self.assertEqual(names, [("isph__dummy_layers__r0__l0_0.025", 0.025),
+                                 ("isph__dummy_layers__r0__l0_0.0125", 0.0125)])
+        scene = [request.name for request in still_water.requests("out", catalogue, ["isph"], 1, 3.0, True, [])]
+        self.assertEqual(scene, ["isph__dummy_layers__r0"])
+        # One completed case at l0 = 0.025 m (1.0, 0.995, 0.98: two within 1 %), one failed at 0.0125 m.
+        rows = [dict({"method": "isph", "boundary_model": "dummy_layers", "realisation": 0, "status": "completed",
+                      "particle_spacing": 0.025, "within_1pct": 2},
+                     **dict(zip(still_water.RATIOS, (1.0, 0.995, 0.98)))),
+                {"method": "isph", "boundary_model": "dummy_layers", "realisation": 0, "status": "diverged",
+                 "particle_spacing": 0.0125}]
+        text = still_water.resolution_table(rows, [0.025, 0.0125], {"isph": 0.02}, True)
+        self.assertIn("| isph | 0.980–1.000, 2 of 3 | – (1 not completed) | promise 2 % |", text)
+
     def test_a_failed_case_says_why(self):
         # No run.json: the status is the exit and the binary's last error line.
         result = runner.CaseResult(["mps_lab"], 2, 0.1, "", "starting\nmps_lab: error: scene.json: key: expected x\n")

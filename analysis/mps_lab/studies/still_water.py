@@ -4,7 +4,7 @@
     /usr/bin/python3 analysis/still_water.py --methods isph --set methods.isph.kernel='"wendland_c2"'
     /usr/bin/python3 analysis/still_water.py --methods eisph --realisations 6 --end-time 3
     /usr/bin/python3 analysis/still_water.py --defaults --window 0.5 1.5 --end-time 1.5  # the defaults' test
-    /usr/bin/python3 analysis/still_water.py --spacing 0.0125 --out runs/still_water_l0_0125  # finer
+    /usr/bin/python3 analysis/still_water.py --spacing 0.025 0.0125 0.00625 --out runs/still_water_resolution
 
 scenes/hydrostatic.json (l0 = 0.025 m, water 0.275 m deep between the bed's and the lattice's top
 edge) with three sensors on the left wall's surface (x = l0/2) at y = 0.0625, 0.1375 and
@@ -13,9 +13,11 @@ particle centres + l0/2, taken from the run's first frame), and a dry sensor at 
 sensors of tests/test_pressure_sensors.cpp. Each method runs with its load setting
 (`--load-setting`, the setting its promise is for; `--defaults`: without it) and with each
 boundary model it supports (`--set methods.M.wall_treatments={"MODEL":{}}`, as the test), then
-the `--set`s given here. `--spacing L0` runs the same tank at another particle spacing, with
-the scene's time step scaled by L0/0.025 (methods with a step rule of their own keep it, and their
-bounds); h is then taken below that run's lattice top edge. A realisation k > 0 scales gravity by 1 + k 1e-10: far below any
+the `--set`s given here. `--spacing L0 [L0 ...]` runs the same tank at these particle spacings,
+the scene's time step and the method's `max_time_step` scaled by L0/0.025, the sensors on the
+wall surface (x = L0/2); h is then taken below each run's lattice top edge. With two spacings or
+more the markdown has a section per spacing and a resolution table, and
+<out>/still_water_resolution.png plots each sensor against l0. A realisation k > 0 scales gravity by 1 + k 1e-10: far below any
 physical effect, it draws another realisation of water that never comes to rest
 (docs/validation.md, "Realisations").
 
@@ -123,17 +125,20 @@ def case_arguments(method: str, model: str, realisation: int, folder: str, end_t
 
 
 def requests(out: str, catalogue: dict, methods: list[str], realisations: int, end_time: float,
-             load_setting: bool, overrides: list[str], spacing: float | None = None):
-    """One CaseRequest per method x boundary model x realisation."""
-    for method in methods:
-        for model in catalogue[method].boundary_models:
-            for realisation in range(realisations):
-                name = f"{method}__{model}__r{realisation}"
-                folder = os.path.join(out, "cases", name)
-                arguments = case_arguments(method, model, realisation, folder, end_time, load_setting, overrides,
-                                           spacing, step_bound(catalogue[method], method))
-                yield runner.CaseRequest(name, arguments, folder,
-                                         {"method": method, "boundary_model": model, "realisation": realisation})
+             load_setting: bool, overrides: list[str], spacings: list[float] | None = None):
+    """One CaseRequest per spacing x method x boundary model x realisation (spacings None: the scene's)."""
+    for spacing in spacings or [None]:
+        suffix = f"__l0_{spacing:g}" if spacing is not None else ""
+        for method in methods:
+            for model in catalogue[method].boundary_models:
+                for realisation in range(realisations):
+                    name = f"{method}__{model}__r{realisation}{suffix}"
+                    folder = os.path.join(out, "cases", name)
+                    arguments = case_arguments(method, model, realisation, folder, end_time, load_setting,
+                                               overrides, spacing, step_bound(catalogue[method], method))
+                    yield runner.CaseRequest(name, arguments, folder, {
+                        "method": method, "boundary_model": model, "realisation": realisation,
+                        "particle_spacing": spacing if spacing is not None else scene_spacing_and_step()[0]})
 
 
 def window_mean(times: list[float], values: list[float], start: float, end: float) -> float:
@@ -171,8 +176,7 @@ def sensor_ratios(folder: str, start: float, end: float) -> dict:
               for k, (column, y) in enumerate(zip(RATIOS, SENSOR_HEIGHTS))}
     deviations = [abs(ratio - 1.0) for ratio in ratios.values()]
     return dict(ratios, dry=mean("dry"), worst=max(deviations),
-                within_1pct=sum(deviation < TARGET for deviation in deviations),
-                particle_spacing=shared["particle_spacing"])
+                within_1pct=sum(deviation < TARGET for deviation in deviations))
 
 
 def failure(result: runner.CaseResult) -> str:
@@ -228,15 +232,16 @@ def expected_reading(values: list[float]) -> tuple[float, float, str]:
 def expectations(rows: list[dict]) -> list[dict]:
     """Per method and model with two or more completed realisations: each sensor's expected reading
     (expected_reading) as mean_<ratio>, se_<ratio> and verdict_<ratio>."""
-    grouped: dict[tuple[str, str], list[dict]] = {}
+    grouped: dict[tuple[str, str, float], list[dict]] = {}
     for row in rows:
         if row["status"] == "completed":
-            grouped.setdefault((row["method"], row["boundary_model"]), []).append(row)
+            key = (row["method"], row["boundary_model"], row.get("particle_spacing", 0.0))
+            grouped.setdefault(key, []).append(row)
     result = []
-    for (method, model), mine in sorted(grouped.items()):
+    for (method, model, spacing), mine in sorted(grouped.items()):
         if len(mine) < 2:
             continue
-        entry = {"method": method, "boundary_model": model, "realisations": len(mine)}
+        entry = {"method": method, "boundary_model": model, "realisations": len(mine), "particle_spacing": spacing}
         for column in RATIOS:
             mean, error, verdict = expected_reading([row[column] for row in mine])
             entry.update({f"mean_{column}": mean, f"se_{column}": error, f"verdict_{column}": verdict})
@@ -244,7 +249,7 @@ def expectations(rows: list[dict]) -> list[dict]:
     return result
 
 
-EXPECTED_COLUMNS = ["method", "boundary_model", "realisations",
+EXPECTED_COLUMNS = ["method", "boundary_model", "realisations", "particle_spacing",
                     *(f"{kind}_{column}" for column in RATIOS for kind in ("mean", "se", "verdict"))]
 
 
@@ -329,7 +334,7 @@ def table(rows: list[dict], promises: dict, window: tuple[float, float], load_se
 
 def still_water(out: str, binary: str, methods: list[str] | None, realisations: int, end_time: float,
                 window: tuple[float, float], load_setting: bool, overrides: list[str], parallel: int,
-                timeout: float = DEFAULT_TIMEOUT, spacing: float | None = None) -> tuple[str, list[dict]]:
+                timeout: float = DEFAULT_TIMEOUT, spacings: list[float] | None = None) -> tuple[str, list[dict]]:
     """Run every case, write still_water.csv and still_water.md; returns the markdown and the rows."""
     catalogue = method_catalogue(binary)
     wanted = methods or sorted(catalogue)
@@ -337,22 +342,96 @@ def still_water(out: str, binary: str, methods: list[str] | None, realisations: 
     os.makedirs(out, exist_ok=True)
     rows = []
     for request, result in runner.run_cases(binary, requests(out, catalogue, wanted, realisations, end_time,
-                                                             load_setting, overrides, spacing),
+                                                             load_setting, overrides, spacings),
                                             parallel=parallel, timeout=timeout,
                                             threads=runner.threads_per_case(parallel)):
         row = row_of(request, result, window)
         rows.append(row)
         print(f"{request.name}: {row['status']}" + "".join(
             f" {row[column]:.4f}" for column in RATIOS if column in row), flush=True)
-    rows.sort(key=lambda row: (row["method"], row["boundary_model"], row["realisation"]))
+    rows.sort(key=lambda row: (-row["particle_spacing"], row["method"], row["boundary_model"], row["realisation"]))
     write_csv(rows, COLUMNS, os.path.join(out, "still_water.csv"))
     promises = {name: info.still_water_promise for name, info in catalogue.items()}
-    markdown = table(rows, promises, window, load_setting)
-    expected = expectations(rows)
-    if expected:
-        write_csv(expected, EXPECTED_COLUMNS, os.path.join(out, "still_water_expected.csv"))
-        plot_expectations(expected, os.path.join(out, "still_water_expected.png"))
-        markdown += expectation_table(expected)
+    markdown = report(out, rows, promises, window, load_setting)
     with open(os.path.join(out, "still_water.md"), "w") as handle:
         handle.write(markdown)
     return markdown, rows
+
+
+def report(out: str, rows: list[dict], promises: dict, window: tuple[float, float], load_setting: bool) -> str:
+    """The markdown, the expected readings' CSV and figures: per spacing (coarsest first) the table
+    and, with realisations, the expected readings; with two spacings or more, the resolution table
+    and its figure."""
+    spacings = sorted({row["particle_spacing"] for row in rows}, reverse=True)
+    markdown, expected_all = "", []
+    for spacing in spacings:
+        mine = [row for row in rows if row["particle_spacing"] == spacing]
+        suffix = f"_l0_{spacing:g}" if len(spacings) > 1 else ""
+        markdown += (f"\n## l0 = {spacing:g} m\n\n" if len(spacings) > 1 else "")
+        markdown += table(mine, promises, window, load_setting)
+        expected = expectations(mine)
+        if expected:
+            expected_all += expected
+            plot_expectations(expected, os.path.join(out, f"still_water_expected{suffix}.png"))
+            markdown += expectation_table(expected)
+    if expected_all:
+        write_csv(expected_all, EXPECTED_COLUMNS, os.path.join(out, "still_water_expected.csv"))
+    if len(spacings) > 1:
+        markdown += resolution_table(rows, spacings, promises, load_setting)
+        plot_resolution(rows, spacings, os.path.join(out, "still_water_resolution.png"))
+    return markdown
+
+
+def resolution_table(rows: list[dict], spacings: list[float], promises: dict, load_setting: bool) -> str:
+    """Per method and spacing: the range of the completed cases' readings, how many sensors are
+    within 1 %, and the cases that did not complete."""
+    lines = ["", "Against the particle spacing: the readings' range, sensors within 1 % (and cases that did "
+             "not complete)", "", "| method | " + " | ".join(f"l0 = {spacing:g} m" for spacing in spacings) + " | |",
+             "|---|" + "---|" * (len(spacings) + 1)]
+    for method in sorted({row["method"] for row in rows}):
+        cells = []
+        for spacing in spacings:
+            mine = [row for row in rows if row["method"] == method and row["particle_spacing"] == spacing]
+            done = [row for row in mine if row["status"] == "completed"]
+            values = [row[column] for row in done for column in RATIOS]
+            cell = (f"{min(values):.3f}–{max(values):.3f}, {sum(row['within_1pct'] for row in done)} of {len(values)}"
+                    if values else "–")
+            failed = len(mine) - len(done)
+            cells.append(cell + (f" ({failed} not completed)" if failed else ""))
+        lines.append(f"| {method} | " + " | ".join(cells) + f" | {promise_text(promises.get(method), load_setting)} |")
+    return "\n".join(lines) + "\n"
+
+
+def plot_resolution(rows: list[dict], spacings: list[float], path: str) -> None:
+    """still_water_resolution.png: per method, each model's readings (the mean over its
+    realisations) at each sensor against l0, with the 1 % band."""
+    from .. import figures  # noqa: F401  (sets the shared style)
+    import matplotlib.pyplot as plt
+
+    done = [row for row in rows if row["status"] == "completed"]
+    methods = sorted({row["method"] for row in done})
+    fig, axes = plt.subplots(1, max(1, len(methods)), figsize=(3.0 * max(1, len(methods)) + 1.0, 4.2),
+                             sharey=True, squeeze=False)
+    for ax, method in zip(axes[0], methods):
+        ax.axhspan(1.0 - TARGET, 1.0 + TARGET, color="0.85", zorder=0)
+        models = sorted({row["boundary_model"] for row in done if row["method"] == method})
+        for colour, model in zip(plt.rcParams["axes.prop_cycle"].by_key()["color"], models):
+            for column, (marker, _) in SENSOR_MARKERS.items():
+                points = [(spacing, [row[column] for row in done if row["method"] == method
+                                     and row["boundary_model"] == model and row["particle_spacing"] == spacing])
+                          for spacing in spacings]
+                points = [(spacing, sum(values) / len(values)) for spacing, values in points if values]
+                ax.plot([p[0] for p in points], [p[1] for p in points], marker=marker, color=colour, markersize=4,
+                        linewidth=0.8, label=model if column == RATIOS[0] else None)
+        ax.set_xscale("log")
+        ax.set_xticks(spacings)
+        ax.set_xticklabels([f"{spacing:g}" for spacing in spacings], fontsize=7)
+        ax.minorticks_off()
+        ax.set_title(method)
+        ax.set_xlabel("l0 (m)")
+        ax.legend(fontsize=6, loc="lower right")
+    axes[0][0].set_ylabel("mean / ρ g h (markers: h = 0.225, 0.15, 0.075 m)")
+    fig.suptitle("Still water at the wall sensors against the particle spacing (grey: within 1 %)")
+    fig.tight_layout()
+    fig.savefig(path)
+    plt.close(fig)
