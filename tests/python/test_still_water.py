@@ -142,6 +142,10 @@ class StillWaterTest(unittest.TestCase):
                  "particle_spacing": 0.0125}]
         text = still_water.resolution_table(rows, [0.025, 0.0125], {"isph": 0.02}, True)
         self.assertIn("| isph | 0.980–1.000, 2 of 3 | – (1 not completed) | promise 2 % |", text)
+        path = os.path.join(self.folder, "resolution.png")
+        still_water.plot_resolution(rows, [0.025, 0.0125], path)  # the failed case is left out
+        with open(path, "rb") as handle:
+            self.assertEqual(handle.read(8), b"\x89PNG\r\n\x1a\n")
 
     def test_a_failed_case_says_why(self):
         # No run.json: the status is the exit and the binary's last error line.

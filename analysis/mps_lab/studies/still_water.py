@@ -424,12 +424,13 @@ def plot_resolution(rows: list[dict], spacings: list[float], path: str) -> None:
                 ax.plot([p[0] for p in points], [p[1] for p in points], marker=marker, color=colour, markersize=4,
                         linewidth=0.8, label=model if column == RATIOS[0] else None)
         ax.set_xscale("log")
+        ax.invert_xaxis()  # refining from left to right
         ax.set_xticks(spacings)
         ax.set_xticklabels([f"{spacing:g}" for spacing in spacings], fontsize=7)
         ax.minorticks_off()
         ax.set_title(method)
-        ax.set_xlabel("l0 (m)")
-        ax.legend(fontsize=6, loc="lower right")
+        ax.set_xlabel("l0 (m), finer →")
+        ax.legend(fontsize=6, loc="lower left")
     axes[0][0].set_ylabel("mean / ρ g h (markers: h = 0.225, 0.15, 0.075 m)")
     fig.suptitle("Still water at the wall sensors against the particle spacing (grey: within 1 %)")
     fig.tight_layout()
