@@ -17,9 +17,9 @@ the `--set`s given here. `--spacing L0 [L0 ...]` runs the same tank at these par
 the scene's time step and the method's `max_time_step` scaled by L0/0.025, the sensors on the
 wall surface (x = L0/2); h is then taken below each run's lattice top edge. With two spacings or
 more the markdown has a section per spacing and a resolution table, and
-<out>/still_water_resolution.png plots each sensor against l0. A realisation k > 0 scales gravity by 1 + k 1e-10: far below any
-physical effect, it draws another realisation of water that never comes to rest
-(docs/validation.md, "Realisations").
+<out>/still_water_resolution.png plots each sensor against l0. A realisation k > 0 scales
+gravity by 1 + k 1e-10: far below any physical effect, it draws another realisation of water
+that never comes to rest (docs/validation.md, "Realisations").
 
 Each sensor's reading is the time-weighted mean over the window of series.csv's rows (a row is
 the mean since the row before; it counts with its overlap with the window), divided by
@@ -127,6 +127,8 @@ def case_arguments(method: str, model: str, realisation: int, folder: str, end_t
 def requests(out: str, catalogue: dict, methods: list[str], realisations: int, end_time: float,
              load_setting: bool, overrides: list[str], spacings: list[float] | None = None):
     """One CaseRequest per spacing x method x boundary model x realisation (spacings None: the scene's)."""
+    scene_spacing = scene_spacing_and_step()[0]
+    bounds = {method: step_bound(catalogue[method], method) for method in methods}
     for spacing in spacings or [None]:
         suffix = f"__l0_{spacing:g}" if spacing is not None else ""
         for method in methods:
@@ -135,10 +137,10 @@ def requests(out: str, catalogue: dict, methods: list[str], realisations: int, e
                     name = f"{method}__{model}__r{realisation}{suffix}"
                     folder = os.path.join(out, "cases", name)
                     arguments = case_arguments(method, model, realisation, folder, end_time, load_setting,
-                                               overrides, spacing, step_bound(catalogue[method], method))
+                                               overrides, spacing, bounds[method])
                     yield runner.CaseRequest(name, arguments, folder, {
                         "method": method, "boundary_model": model, "realisation": realisation,
-                        "particle_spacing": spacing if spacing is not None else scene_spacing_and_step()[0]})
+                        "particle_spacing": spacing if spacing is not None else scene_spacing})
 
 
 def window_mean(times: list[float], values: list[float], start: float, end: float) -> float:
