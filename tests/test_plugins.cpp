@@ -148,10 +148,11 @@ TEST_CASE("which wall treatments a method gets is computed from its declarations
   }
   // Wall-sample models: yes (they act after the correction; after the explicit position update
   // only where a method makes one). Measures at called hooks: yes (repulsion and collision
-  // after the neighbour search; the position clamp after the correction).
+  // after the neighbour search; the position clamp and the shifting after the correction).
   // Wall-particle models: no. The CFL clamp acts after the explicit velocity update: no.
   CHECK(supported == std::set<std::string>{"distance_function", "dummy_layers", "mirror_particles",
-                                           "particle_collision", "wall_position_clamp", "wall_repulsion"});
+                                           "particle_collision", "particle_shifting", "wall_position_clamp",
+                                           "wall_repulsion"});
   CHECK_THAT(wall_treatment_support_gap(*walls.find("cfl_velocity_clamp"), method),
              Catch::Equals("it acts at after_explicit_velocity, which 'free_streaming' does not call"));
   CHECK_THAT(wall_treatment_support_gap(*walls.find("akinci_boundary"), method),

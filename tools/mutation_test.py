@@ -28,7 +28,9 @@ tests/mutations/pressure_sensors.json the wall-pressure sensor (core/run/pressur
 core/walls/wall_pressure_extrapolation.hpp), quick suite the [sensor] tests, and
 tests/mutations/distance_function_corners.json the distance function's blended corners
 (core/walls/distance_function.cpp), quick suite tests/test_distance_function_corners.cpp and the
-still-water loads on the submerged box and the plate (tests/test_obstacle_loads.cpp).
+still-water loads on the submerged box and the plate (tests/test_obstacle_loads.cpp), and
+tests/mutations/particle_shifting.json the particle shifting (core/walls/particle_shifting.cpp),
+quick suite the [shifting] tests.
 
 Exit status: 0 when every mutation run was killed, 1 when one survived, 2 on bad input.
 """
@@ -49,7 +51,8 @@ MUTATIONS = ROOT / "tests" / "mutations" / "mps_spec.json"
 REPORT = ROOT / "docs" / "data" / "mutation_report.csv"
 # The quick suite of each list other than the spec's: a Catch2 test spec for the test binary.
 QUICK_SUITES = {"pressure_schemes.json": "[schemes],[loads],[surface]", "pressure_sensors.json": "[sensor]",
-                "distance_function_corners.json": "distance function corners*,obstacle loads: still water*"}
+                "distance_function_corners.json": "distance function corners*,obstacle loads: still water*",
+                "particle_shifting.json": "[shifting]"}
 REQUIRED_KEYS = ("id", "spec", "item", "file", "old", "new")
 CTEST_LABEL = "spec"
 TEST_TIMEOUT_SECONDS = 120  # per test; a mutation that makes a test hang is killed by the timeout
