@@ -117,7 +117,7 @@ TEST_CASE("particle shifting: a displaced particle moves back by -A h |u| dt gra
     CHECK(sums.divergence == Approx(1.844).margin(0.001));
     CHECK(moved.x() == Approx(expected.x()).epsilon(1e-9));
     CHECK(moved.y() == Approx(expected.y()).epsilon(1e-9));
-    CHECK(moved.dot(displacement) < 0.0);       // back towards the site
+    CHECK(moved.dot(displacement) < 0.0);                 // back towards the site
     CHECK(particles.velocity[centre] == Vec2(1.0, 0.0));  // uniform flow: no correction
   }
 }
@@ -245,7 +245,8 @@ TEST_CASE("particle shifting: wall samples count as the wall particles they stan
   const auto block_on_bed = [&]() {
     ParticleSet particles;
     for (int a = 0; a < 11; ++a) {
-      for (int b = 1; b <= 6; ++b) particles.add(Vec2(0.3 + a * kSpacing, b * kSpacing), uniform(Vec2()), ParticleType::Fluid);
+      for (int b = 1; b <= 6; ++b)
+        particles.add(Vec2(0.3 + a * kSpacing, b * kSpacing), uniform(Vec2()), ParticleType::Fluid);
     }
     particles.position[lattice_index(5, 0, 6)] += kSpacing * Vec2(0.2, 0.1);
     return particles;

@@ -84,7 +84,8 @@ class ParticleShifting final : public WallTreatment {
   // The kernel follows the method's operator support (known at the first hook).
   void set_kernel(double support) {
     if (kernel_ != nullptr && kernel_->support() == support) return;
-    if (support <= 0.0) throw std::logic_error("particle_shifting: the method set no operator support in its WallContext");
+    if (support <= 0.0)
+      throw std::logic_error("particle_shifting: the method set no operator support in its WallContext");
     kernel_ = std::make_unique<SphKernel>(SphKernelKind::WendlandC2, support);
     volume_ = 1.0 / lattice_kernel_sum(*kernel_, spacing_);
     inside_divergence_ = lattice_position_divergence();
@@ -137,7 +138,8 @@ class ParticleShifting final : public WallTreatment {
   Vec2 shift(const ShiftingSums& sums, double speed, double dt) const {
     const double smoothing_length = 0.5 * kernel_->support();
     const double ramp = std::clamp(
-        (sums.position_divergence - free_surface_threshold_) / (inside_divergence_ - free_surface_threshold_), 0.0, 1.0);
+        (sums.position_divergence - free_surface_threshold_) / (inside_divergence_ - free_surface_threshold_), 0.0,
+        1.0);
     return -coefficient_ * smoothing_length * speed * dt * ramp * sums.concentration_gradient;
   }
 
@@ -146,11 +148,11 @@ class ParticleShifting final : public WallTreatment {
   double free_surface_threshold_;
   bool velocity_correction_;
   std::unique_ptr<SphKernel> kernel_;
-  double volume_ = 0.0;               // V, m^2
-  double inside_divergence_ = 2.0;    // d, div r inside the lattice
-  CellList cells_;                    // the search at the step's end positions (reused storage)
+  double volume_ = 0.0;             // V, m^2
+  double inside_divergence_ = 2.0;  // d, div r inside the lattice
+  CellList cells_;                  // the search at the step's end positions (reused storage)
   NeighbourList neighbours_;
-  std::vector<Vec2> shifts_;          // this step's dr (reused storage)
+  std::vector<Vec2> shifts_;            // this step's dr (reused storage)
   std::vector<Vec2> velocity_changes_;  // this step's (grad u) dr (reused storage)
 };
 
@@ -163,7 +165,8 @@ void mps_lab_register_wall_treatment_particle_shifting(mps_lab::WallTreatmentReg
       "particle_shifting",
       "Fickian particle shifting down the concentration gradient, D = A h |u| dt, none on the free surface "
       "(Lind et al. 2012; Skillen et al. 2013)",
-      {number_parameter("coefficient", 2.0, "", "A of the shifting coefficient D = A h |u| dt (Skillen et al. 2013: 1-6)")
+      {number_parameter("coefficient", 2.0, "",
+                        "A of the shifting coefficient D = A h |u| dt (Skillen et al. 2013: 1-6)")
            .above(0.0)
            .at_most(6.0),
        number_parameter("free_surface_threshold", 1.5, "",
