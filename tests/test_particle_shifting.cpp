@@ -74,9 +74,12 @@ double inside_divergence() {
 }
 const double kInsideDivergence = inside_divergence();
 
-Vec2 expected_shift(const Expected& sums, double coefficient, double speed, double threshold = 1.5) {
+// dr = -(A |u| dt + B h) h s grad C.
+Vec2 expected_shift(const Expected& sums, double coefficient, double speed, double threshold = 1.5,
+                    double fixed_coefficient = 0.0) {
   const double ramp = std::clamp((sums.divergence - threshold) / (kInsideDivergence - threshold), 0.0, 1.0);
-  return -coefficient * 0.5 * kSupport * speed * kTimeStep * ramp * sums.gradient;
+  const double h = 0.5 * kSupport;
+  return -(coefficient * speed * kTimeStep + fixed_coefficient * h) * h * ramp * sums.gradient;
 }
 
 }  // namespace
@@ -142,6 +145,26 @@ TEST_CASE("particle shifting: the shift scales with the particle's speed", "[wal
   const ParticleSet before = still;
   shift(scene, still);
   CHECK(still.position == before.position);
+}
+
+TEST_CASE("particle shifting: the fixed part B h^2 orders water at rest", "[walls][shifting]") {
+  // D = (A |u| dt + B h) h: with B = 0.05 the displaced centre of a block at rest moves by
+  // -0.05 h^2 s grad C (A's part is zero at rest); moving at 1 m/s with A = 2 as well, by the sum.
+  const Scene at_rest_scene = shifting_scene(R"({"coefficient":0,"fixed_coefficient":0.05})");
+  const Scene both_scene = shifting_scene(R"({"coefficient":2,"fixed_coefficient":0.05})");
+  for (const double speed : {0.0, 1.0}) {
+    ParticleSet particles = fluid_lattice(11, 11, [speed](const Vec2&) { return Vec2(speed, 0.0); });
+    const std::size_t centre = lattice_index(5, 5, 11);
+    particles.position[centre] += kSpacing * Vec2(0.2, 0.1);
+    const Expected sums = expected_sums(particles, centre);
+    const Vec2 start = particles.position[centre];
+    shift(speed == 0.0 ? at_rest_scene : both_scene, particles);
+    const Vec2 moved = particles.position[centre] - start;
+    const Vec2 expected = expected_shift(sums, speed == 0.0 ? 0.0 : 2.0, speed, 1.5, 0.05);
+    CHECK(moved.norm() > 0.0);
+    CHECK(moved.x() == Approx(expected.x()).epsilon(1e-9));
+    CHECK(moved.y() == Approx(expected.y()).epsilon(1e-9));
+  }
 }
 
 TEST_CASE("particle shifting: none on the free surface, a ramp below it", "[walls][shifting]") {

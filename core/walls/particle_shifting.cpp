@@ -7,8 +7,11 @@
 //   grad C_i = V sum_j grad_i W_ij              (Lind 2012 eq. 12)
 //   div r_i  = -V sum_j r_ij . grad_i W_ij      r_ij = x_i - x_j; 2 inside a 2-D fluid, about 1 on
 //                                               its free surface (Lee et al. 2008)
-//   dr_i     = -A h |u_i| dt  s_i  grad C_i     A = `coefficient` (Skillen 2013: D = A h |u| dt,
-//                                               A in [1, 6], 2 their choice)
+//   dr_i     = -D_i s_i grad C_i,  D_i = (A |u_i| dt + B h) h
+//              A = `coefficient` (Skillen 2013: D = A h |u| dt, A in [1, 6], 2 their choice);
+//              B = `fixed_coefficient` (0 by default): a part of D that does not vanish with the
+//              flow, as Lind 2012's D fixed per step in units of h^2; it keeps ordering water at
+//              rest. An explicit diffusion step is stable for D <= h^2 / 2 (B < 0.5)
 //   s_i      = clamp((div r_i - t) / (d - t), 0, 1),  t = `free_surface_threshold`
 //              (the free-surface correction of Mokos 2013 / DualSPHysics: no shifting on the
 //               surface, where the truncated support would pull particles out of the water,
@@ -57,6 +60,7 @@ class ParticleShifting final : public WallTreatment {
   explicit ParticleShifting(const WallTreatmentSetup& setup)
       : spacing_(setup.scene.particle_spacing),
         coefficient_(setup.parameters.number("coefficient")),
+        fixed_coefficient_(setup.parameters.number("fixed_coefficient")),
         free_surface_threshold_(setup.parameters.number("free_surface_threshold")),
         velocity_correction_(setup.parameters.boolean("velocity_correction")) {}
 
@@ -134,17 +138,20 @@ class ParticleShifting final : public WallTreatment {
     return sums;
   }
 
-  // dr_i = -A h |u_i| dt s_i grad C_i (Skillen et al. 2013 with the free-surface ramp s_i), m.
+  // dr_i = -D_i s_i grad C_i, D_i = (A |u_i| dt + B h) h (Skillen et al. 2013 and a fixed part,
+  // with the free-surface ramp s_i), m.
   Vec2 shift(const ShiftingSums& sums, double speed, double dt) const {
     const double smoothing_length = 0.5 * kernel_->support();
     const double ramp = std::clamp(
         (sums.position_divergence - free_surface_threshold_) / (inside_divergence_ - free_surface_threshold_), 0.0,
         1.0);
-    return -coefficient_ * smoothing_length * speed * dt * ramp * sums.concentration_gradient;
+    const double diffusion = (coefficient_ * speed * dt + fixed_coefficient_ * smoothing_length) * smoothing_length;
+    return -diffusion * ramp * sums.concentration_gradient;
   }
 
-  double spacing_;  // l0, m
-  double coefficient_;
+  double spacing_;            // l0, m
+  double coefficient_;        // A
+  double fixed_coefficient_;  // B
   double free_surface_threshold_;
   bool velocity_correction_;
   std::unique_ptr<SphKernel> kernel_;
@@ -163,12 +170,17 @@ void mps_lab_register_wall_treatment_particle_shifting(mps_lab::WallTreatmentReg
   using namespace mps_lab;
   WallTreatmentInfo info{
       "particle_shifting",
-      "Fickian particle shifting down the concentration gradient, D = A h |u| dt, none on the free surface "
-      "(Lind et al. 2012; Skillen et al. 2013)",
+      "Fickian particle shifting down the concentration gradient, D = (A |u| dt + B h) h, none on the free "
+      "surface (Lind et al. 2012; Skillen et al. 2013)",
       {number_parameter("coefficient", 2.0, "",
-                        "A of the shifting coefficient D = A h |u| dt (Skillen et al. 2013: 1-6)")
-           .above(0.0)
+                        "A of the shifting coefficient D = (A |u| dt + B h) h (Skillen et al. 2013: A in 1-6)")
+           .at_least(0.0)
            .at_most(6.0),
+       number_parameter("fixed_coefficient", 0.0, "",
+                        "B of D = (A |u| dt + B h) h: a part that does not vanish with the flow (Lind et al. 2012's "
+                        "fixed D); orders water at rest; D <= h^2/2 keeps the explicit step stable")
+           .at_least(0.0)
+           .below(0.5),
        number_parameter("free_surface_threshold", 1.5, "",
                         "div r below which a particle is on the free surface and is not shifted; full shifting "
                         "from the lattice's div r (about 1.9) in, a ramp between (Mokos 2013)")
