@@ -1,7 +1,7 @@
 // Particle shifting (core/walls/particle_shifting.cpp) term by term, on hand-built lattices run
 // through WallTreatmentSet at after_correction with the mps method's support 2.1 l0. The expected
 // shift is recomputed here from the published formula (Lind et al. 2012; Skillen et al. 2013):
-//   dr_i = -A h |u_i| dt s_i grad C_i,  grad C_i = V sum_j grad_i W_ij,  h = support / 2,
+//   dr_i = -(A |u_i| dt + B h) h s_i grad C_i,  grad C_i = V sum_j grad_i W_ij,  h = support / 2,
 // Wendland C2, V = 1 / (lattice kernel sum), s_i the free-surface ramp. Tolerances 1e-9 relative
 // (the same sums in another order).
 #include <catch2/catch.hpp>
@@ -37,10 +37,10 @@ ParticleSet fluid_lattice(int columns, int rows, Velocity velocity) {
 }
 std::size_t lattice_index(int a, int b, int rows) { return static_cast<std::size_t>(a * rows + b); }
 
-void shift(const Scene& scene, ParticleSet& particles, double support = kSupport) {
+void shift(const Scene& scene, ParticleSet& particles) {
   WallTreatmentSet set = only_treatments(scene, {"particle_shifting"});
   WallContext context{particles, nullptr, kTimeStep, scene};  // the shifting searches itself
-  context.support = support;
+  context.support = kSupport;
   set.after_correction(context);
 }
 
