@@ -527,6 +527,18 @@ TEST_CASE("mps scheme gc: the dam break runs to its end, more water over the cre
   CHECK(run.series.column("fluid_particles").back() + run.series.column("ghost_particles").back() == 171.0);
   CHECK(run.series.column("front").back() >= 0.95);
 }
+TEST_CASE("mps water surface offset: the dam break runs to its end", "[stability][mps]") {
+  // free_surface_offset 0.5 (docs/methods/mps.md, "The water surface"): 1 particle over the
+  // crest by 2 s, front 0.981 m (measured 2026-11-29); the scheme bounds above.
+  scheme_dam_break("surface_offset", {"methods.mps.free_surface_offset=0.5"});
+}
+TEST_CASE("mps load setting (mixed, dry walls excluded, gc, surface offset): the dam break runs to its end",
+          "[stability][mps]") {
+  // 4 particles over the crest by 2 s, front 0.978 m (measured 2026-11-29): GC's run-up (above)
+  // stays within the default escape bound with the mixed source.
+  scheme_dam_break("load_setting", {"methods.mps.source_term=mixed", "methods.mps.dry_wall_points=excluded",
+                                    "methods.mps.gradient_correction=true", "methods.mps.free_surface_offset=0.5"});
+}
 TEST_CASE("mps schemes cmps with ecs and hl together: the dam break runs to its end", "[stability][mps]") {
   scheme_dam_break("cmps_ecs_hl", {"methods.mps.pressure_gradient=cmps", "methods.mps.source_term=ecs",
                                    "methods.mps.ppe_laplacian=hl"});

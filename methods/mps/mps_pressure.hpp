@@ -45,6 +45,11 @@ struct PressureSolveSettings {
   // When not null, b_i = (*source_term)[i] (Pa/m^2, a source term of mps_schemes.hpp) replaces
   // the spec's relaxation (rho/dt^2)(n*_i - n0)/n0; the free surface still follows n*.
   const std::vector<double>* source_term = nullptr;
+  // m: the water surface's distance beyond a free-surface particle's centre. 0: the spec's P = 0
+  // on the surface particles (§3); > 0: a fluid surface particle with water below it holds the
+  // hydrostatic head rho |g| surface_offset (surface_pressure below), a Dirichlet value that the
+  // rows beside it carry to their right-hand sides.
+  double surface_offset = 0.0;
 };
 
 struct PressureSolveResult {
@@ -124,6 +129,9 @@ class PressurePoissonSolver {
   void assemble_row(const RowInputs& in, int row);
   // a_ij of one pair at distance r (1/m^2): the spec's coefficient w_L(r) or the HL term.
   static double laplacian_term(const RowInputs& in, double r);
+  // The Dirichlet value of surface particle i (Pa): 0 unless settings.surface_offset > 0.
+  static double surface_pressure(const ParticleSet& particles, const NeighbourList& neighbours,
+                                 const OperatorRadius& radius, const PressureSolveSettings& settings, std::size_t i);
 
   std::vector<int> row_of_;  // particle -> unknown index, -1 if not an unknown
   std::vector<int> particle_of_;

@@ -1,0 +1,188 @@
+// The water surface of the mps method (`free_surface_offset`, methods/mps/mps_pressure.hpp;
+// docs/methods/mps.md, "The water surface"): a fluid surface particle with water below it holds
+// the hydrostatic head rho |g| delta to a surface delta beyond its centre instead of the spec's
+// P = 0, and the rows beside it carry that known value to their right-hand sides. Hand-built
+// lattices of spacing l0; the head's value is computed here: 1000 * 9.81 * 0.5 * 0.025 Pa.
+#include <catch2/catch.hpp>
+
+#include "core/base/error.hpp"
+#include "core/run/driver.hpp"
+#include "core/search/for_each_neighbour.hpp"
+#include "methods/mps/mps_operators.hpp"
+#include "methods/mps/mps_pressure.hpp"
+#include "support.hpp"
+
+using namespace mps_lab;
+using namespace mps_lab::mps;
+using namespace mps_lab::testing;
+
+namespace {
+
+constexpr double kL0 = 0.025;  // m
+constexpr double kDt = 1.0e-3;  // s
+const double kHead = 1000.0 * 9.81 * 0.5 * kL0;  // Pa: rho |g| delta with delta = l0/2
+
+// A 5 x 5 block of fluid on the lattice (index (i + 2) + 5 (j + 2) for column i, row j in
+// [-2, 2]) and three wall particles l0 above its top-left corner's row, at columns -3, -2 and -1.
+// The outer ring is the free surface (n* = 0.9 n0), the inner 3 x 3 unknowns at n0 (no source
+// under the spec's term); the walls are surface particles too.
+struct Block {
+  ParticleSet particles;
+  std::vector<double> number_density;
+  std::size_t wall = 0;  // the first of the three wall particles
+  static std::size_t at(int i, int j) { return static_cast<std::size_t>((i + 2) + 5 * (j + 2)); }
+};
+
+Block block(double n0) {
+  Block b;
+  for (int j = -2; j <= 2; ++j) {
+    for (int i = -2; i <= 2; ++i) {
+      b.particles.add(Vec2(0.3 + i * kL0, 0.2 + j * kL0), Vec2::Zero(), ParticleType::Fluid);
+      const bool ring = std::abs(i) == 2 || std::abs(j) == 2;
+      b.number_density.push_back(ring ? 0.9 * n0 : n0);
+    }
+  }
+  b.wall = b.particles.size();
+  for (int i = -3; i <= -1; ++i) {
+    b.particles.add(Vec2(0.3 + i * kL0, 0.2 + 3 * kL0), Vec2::Zero(), ParticleType::Wall);
+    b.number_density.push_back(0.5 * n0);  // surface wall particles (spec §3: they carry pressure)
+  }
+  return b;
+}
+
+struct Assembled {
+  PressurePoissonSolver solver;
+  std::vector<double> surface;
+};
+
+void assemble(Block& b, const OperatorRadius& radius, double offset, Assembled& out,
+              const WallSampleList& samples = WallSampleList{}) {
+  PressureSolveSettings settings;  // rho 1000, g (0, -9.81), beta 0.97, the spec's source
+  settings.surface_offset = offset;
+  const NeighbourList list = find_neighbours(b.particles.position, b.particles.type, radius.re);
+  out.solver.assemble(b.particles, list, samples, b.number_density,
+                      std::vector<char>(b.particles.size(), 1), radius, radius.n0, kDt, settings, out.surface);
+}
+
+}  // namespace
+
+TEST_CASE("mps water surface: a surface particle with water below it holds rho |g| delta, others 0",
+          "[mps][surface]") {
+  const OperatorRadius radius = make_operator_radius(kL0, 2.1 * kL0, 0.01 * kL0);
+  Block b = block(radius.n0);
+  Assembled a;
+  assemble(b, radius, 0.5 * kL0, a);
+  // The top row: its fluid neighbours lie below it.
+  for (int i = -2; i <= 2; ++i) CHECK(b.particles.pressure[Block::at(i, 2)] == Approx(kHead).epsilon(1e-12));
+  // The full head also at the top corners, whose normal is tilted about 45 degrees (not cos 45
+  // of it). The normal counts fluid neighbours only: with the three wall particles above it the
+  // top-left corner's would point down (wall terms -1.1 - 2 * 0.343 against fluid +1.49).
+  CHECK(b.particles.pressure[Block::at(-2, 2)] == Approx(kHead).epsilon(1e-12));
+  CHECK(b.particles.pressure[Block::at(2, 2)] == Approx(kHead).epsilon(1e-12));
+  // The bottom row faces down (a jet's underside): no head.
+  for (int i = -2; i <= 2; ++i) CHECK(b.particles.pressure[Block::at(i, -2)] == 0.0);
+  // A side particle below the middle has more water above than below: no head.
+  CHECK(b.particles.pressure[Block::at(-2, -1)] == 0.0);
+  // A wall particle on the surface stays at the spec's P = 0, though fluid lies below it.
+  for (std::size_t w = b.wall; w < b.wall + 3; ++w) {
+    CHECK(a.surface[w] == 1.0);
+    CHECK(b.particles.pressure[w] == 0.0);
+  }
+  CHECK(a.solver.matrix().rows() == 9);  // the inner 3 x 3
+}
+
+TEST_CASE("mps water surface: each row beside the surface carries its known heads in b_i", "[mps][surface]") {
+  // Under the spec's source the inner particles at n0 have b = 0 (spec §8), so with the offset
+  // b_i = sum over surface neighbours j of a_ij P_j, a_ij = 2d/(n0 lambda) w(r_ij) (spec §2).
+  const OperatorRadius radius = make_operator_radius(kL0, 2.1 * kL0, 0.01 * kL0);
+  Block zero = block(radius.n0);
+  Assembled spec;
+  assemble(zero, radius, 0.0, spec);
+  Block b = block(radius.n0);
+  Assembled a;
+  assemble(b, radius, 0.5 * kL0, a);
+  const double c = 4.0 / (radius.n0 * radius.lambda);  // 1/m^2
+  for (Eigen::Index k = 0; k < 9; ++k) CHECK(spec.solver.rhs()[k] == 0.0);
+  for (int k = 0; k < 9; ++k) {
+    const std::size_t i = Block::at(-1 + k % 3, -1 + k / 3);  // the unknowns in particle order
+    double expected = 0.0;
+    for (std::size_t j = 0; j < b.particles.size(); ++j) {
+      const double r = (b.particles.position[j] - b.particles.position[i]).norm();
+      if (a.surface[j] == 1.0 && r < radius.re) expected += c * (radius.re / r - 1.0) * b.particles.pressure[j];
+    }
+    INFO("unknown " << k);
+    CHECK(a.solver.rhs()[k] == Approx(expected).epsilon(1e-12));
+  }
+  // By hand for (0, 1), unknown 7: the three top-row heads at l0 and sqrt(2) l0, and the two
+  // side particles at 2 l0 in its row, which have more water below them than above (their
+  // neighbour 2 l0 below tips the normal up: w(2 l0) = 0.05).
+  const double weights = (2.1 - 1.0) + 2.0 * (2.1 / std::sqrt(2.0) - 1.0) + 2.0 * (2.1 / 2.0 - 1.0);
+  CHECK(b.particles.pressure[Block::at(-2, 1)] == Approx(kHead).epsilon(1e-12));
+  CHECK(a.solver.rhs()[7] == Approx(c * kHead * weights).epsilon(1e-12));
+}
+
+TEST_CASE("mps water surface: the option reaches the step - the top row of still water holds the head",
+          "[mps][surface][cli]") {
+  // scenes/hydrostatic.json (l0 = 0.025 m), one step: every fluid particle of the lattice's top
+  // row is on the free surface with water below it, so it holds rho |g| l0/2 = 122.625 Pa; the
+  // spec's default holds 0 there.
+  for (const double offset : {0.0, 0.5}) {
+    RunOptions options;
+    options.scene_path = scene_path("hydrostatic.json");
+    options.method = "mps";
+    options.output_directory = fresh_directory(offset > 0.0 ? "water_surface_offset" : "water_surface_spec").string();
+    options.overrides = {"methods.mps.free_surface_offset=" + std::to_string(offset), "time.end_time=0.001",
+                         "output.frame_every_steps=1", "output.formats=[\"csv\"]"};
+    const RunResult result = run_simulation(options, registries().methods, registries().walls);
+    REQUIRE(result.status == "completed");
+    const Table frame = read_table(std::filesystem::path(options.output_directory) / "output_000001.csv");
+    const std::vector<double> type = frame.column("type"), y = frame.column("y"), p = frame.column("pressure");
+    double top = -1.0;
+    for (std::size_t i = 0; i < type.size(); ++i) {
+      if (type[i] == 0.0) top = std::max(top, y[i]);
+    }
+    int top_row = 0;
+    for (std::size_t i = 0; i < type.size(); ++i) {
+      if (type[i] != 0.0 || y[i] < top - 0.1 * kL0) continue;
+      ++top_row;
+      INFO("offset " << offset << " particle " << i);
+      CHECK(p[i] == Approx(offset * 1000.0 * 9.81 * kL0).epsilon(1e-9).margin(1e-9));
+    }
+    CHECK(top_row == 19);
+  }
+}
+
+TEST_CASE("mps water surface: an offset outside [0, 1) l0 is a one-line error naming the key", "[mps][surface][cli]") {
+  for (const std::string value : {"-0.1", "1.0"}) {
+    const std::string assignment = "methods.mps.free_surface_offset=" + value;
+    INFO(assignment);
+    CHECK_THROWS_AS(load("hydrostatic.json", {assignment}), InputError);
+    CHECK_THROWS_WITH(load("hydrostatic.json", {assignment}), Catch::Contains("methods.mps.free_surface_offset"));
+  }
+}
+
+TEST_CASE("mps water surface: a wall sample whose source is on the surface carries its head", "[mps][surface]") {
+  // One sample in the list of (0, 1), unknown 7, at l0 below-left of it, volume 1, source the
+  // top-row particle (0, 2) (a mirror image of a surface particle, as mirror_particles makes):
+  // b_7 gains a_w (P_s + rho g . (x_w - x_s)), a_w = c w(sqrt(2) l0), P_s the source's head.
+  const OperatorRadius radius = make_operator_radius(kL0, 2.1 * kL0, 0.01 * kL0);
+  Block plain = block(radius.n0);
+  Assembled without;
+  assemble(plain, radius, 0.5 * kL0, without);
+  Block b = block(radius.n0);
+  const std::size_t owner = Block::at(0, 1), source = Block::at(0, 2);
+  WallSampleList samples;
+  samples.offsets.assign(b.particles.size() + 1, 0);
+  for (std::size_t i = owner + 1; i < samples.offsets.size(); ++i) samples.offsets[i] = 1;
+  WallSample sample;
+  sample.position = b.particles.position[owner] + Vec2(-kL0, -kL0);
+  sample.source = static_cast<std::uint32_t>(source);
+  samples.samples.push_back(sample);
+  Assembled a;
+  assemble(b, radius, 0.5 * kL0, a, samples);
+  const double c = 4.0 / (radius.n0 * radius.lambda);  // 1/m^2
+  const double a_w = c * (2.1 / std::sqrt(2.0) - 1.0);
+  const double offset = 1000.0 * -9.81 * (sample.position.y() - b.particles.position[source].y());  // Pa
+  CHECK(a.solver.rhs()[7] == Approx(without.solver.rhs()[7] + a_w * (kHead + offset)).epsilon(1e-12));
+  CHECK(a.solver.matrix().coeff(7, 7) == Approx(without.solver.matrix().coeff(7, 7) + a_w).epsilon(1e-12));
+}
