@@ -18,8 +18,8 @@ using namespace mps_lab::testing;
 
 namespace {
 
-constexpr double kL0 = 0.025;  // m
-constexpr double kDt = 1.0e-3;  // s
+constexpr double kL0 = 0.025;                    // m
+constexpr double kDt = 1.0e-3;                   // s
 const double kHead = 1000.0 * 9.81 * 0.5 * kL0;  // Pa: rho |g| delta with delta = l0/2
 
 // A 5 x 5 block of fluid on the lattice (index (i + 2) + 5 (j + 2) for column i, row j in
@@ -60,14 +60,13 @@ void assemble(Block& b, const OperatorRadius& radius, double offset, Assembled& 
   PressureSolveSettings settings;  // rho 1000, g (0, -9.81), beta 0.97, the spec's source
   settings.surface_offset = offset;
   const NeighbourList list = find_neighbours(b.particles.position, b.particles.type, radius.re);
-  out.solver.assemble(b.particles, list, samples, b.number_density,
-                      std::vector<char>(b.particles.size(), 1), radius, radius.n0, kDt, settings, out.surface);
+  out.solver.assemble(b.particles, list, samples, b.number_density, std::vector<char>(b.particles.size(), 1), radius,
+                      radius.n0, kDt, settings, out.surface);
 }
 
 }  // namespace
 
-TEST_CASE("mps water surface: a surface particle with water below it holds rho |g| delta, others 0",
-          "[mps][surface]") {
+TEST_CASE("mps water surface: a surface particle with water below it holds rho |g| delta, others 0", "[mps][surface]") {
   const OperatorRadius radius = make_operator_radius(kL0, 2.1 * kL0, 0.01 * kL0);
   Block b = block(radius.n0);
   Assembled a;
