@@ -73,7 +73,8 @@ class PressurePoissonSolver {
   MemoryBreakdown memory_breakdown() const;
 
   // Free surface, matrix and right-hand side (spec §5.2-5, §8): sets free_surface[i] = 1 and
-  // P = 0 for surface particles; fills unknowns, surface and ungrounded_groups of the result.
+  // P = 0 for surface particles (their head with settings.surface_offset > 0), whose values the
+  // neighbouring rows carry to b; fills unknowns, surface and ungrounded_groups of the result.
   // `n0` is the number-density constant of the source term, `laplacian` the radius and
   // constants of the Laplacian model.
   // Wall samples (core/walls/wall_samples.hpp) add a_iw (p_s + rho g.(x_w - x_s) - p_i) to the
