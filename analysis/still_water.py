@@ -20,6 +20,11 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--methods", nargs="+", help="methods (default: every one `mps_lab methods` lists)")
     parser.add_argument("--set", dest="overrides", action="append", default=[], metavar="KEY=VALUE",
                         help="a scene override after the load setting and the model (repeatable)")
+    parser.add_argument("--models", nargs="+", metavar="MODEL",
+                        help="boundary models (default: every one each method supports)")
+    parser.add_argument("--model-set", dest="model_settings", action="append", default=[],
+                        metavar="MODEL.KEY=VALUE", help="an option of a boundary model, VALUE as JSON, e.g. "
+                        "distance_function.velocity='\"free_slip\"' (repeatable)")
     parser.add_argument("--defaults", action="store_true", help="without the methods' load settings")
     parser.add_argument("--realisations", type=int, default=1,
                         help="runs per case, gravity scaled by 1 + k 1e-10 (2 or more: each sensor's expected "
@@ -41,10 +46,12 @@ def main(argv: list[str] | None = None) -> int:
     if not 0.0 <= args.window[0] < args.window[1] <= args.end_time:
         parser.error("--window: expected 0 <= FROM < TO <= --end-time")
     try:
+        model_options = still_water.parse_model_options(args.model_settings)
         markdown, rows = still_water.still_water(args.out, runner.find_binary(args.binary), args.methods,
                                                  args.realisations, args.end_time, tuple(args.window),
                                                  not args.defaults, args.overrides, max(1, args.parallel),
-                                                 spacings=args.spacing)
+                                                 spacings=args.spacing, models=args.models,
+                                                 model_options=model_options)
     except (runner.BinaryNotFound, methods.MethodListError, SpecError) as error:
         print(f"still_water.py: {error}", file=sys.stderr)
         return 2

@@ -118,6 +118,28 @@ class StillWaterTest(unittest.TestCase):
                                               0.0125, 2e-3)
         self.assertGreater(override.index("time.time_step=1e-4"), finer.index(step[0]))
 
+    def test_models_and_their_options(self):
+        # --models keeps the models named; --model-set puts an option in that model's block only.
+        catalogue = {"mps": methods.MethodInfo("mps", "", boundary_models=["distance_function", "dummy_layers"])}
+        options = still_water.parse_model_options(['distance_function.velocity="free_slip"',
+                                                   "distance_function.quadrature_points=2"])
+        self.assertEqual(options, {"distance_function": {"velocity": "free_slip", "quadrature_points": 2}})
+        chosen = list(still_water.requests("out", catalogue, ["mps"], 1, 3.0, True, [], None, ["distance_function"],
+                                           options))
+        self.assertEqual([request.name for request in chosen], ["mps__distance_function__r0"])
+        self.assertIn('methods.mps.wall_treatments={"distance_function":{"velocity":"free_slip",'
+                      '"quadrature_points":2}}', chosen[0].arguments)
+        every = list(still_water.requests("out", catalogue, ["mps"], 1, 3.0, True, [], None, None, options))
+        self.assertIn('methods.mps.wall_treatments={"dummy_layers":{}}', every[1].arguments)  # its defaults
+        for bad, expected in (("velocity=1", "expected MODEL.KEY=VALUE"), ("distance_function.velocity=free_slip",
+                                                                           "VALUE is not JSON")):
+            with self.assertRaises(still_water.SpecError) as raised:
+                still_water.parse_model_options([bad])
+            self.assertIn(expected, str(raised.exception))
+        with self.assertRaises(still_water.SpecError) as raised:
+            still_water.check_models(catalogue, ["mps"], ["akinci_boundary"], None)
+        self.assertIn("--models.akinci_boundary: not a boundary model of mps", str(raised.exception))
+
     def test_step_bound_is_the_scene_s_else_the_declared_default(self):
         # scenes/hydrostatic.json sets eisph's bound (2e-3 s); wcsph's comes from the listing.
         info = methods.MethodInfo("x", "", parameter_defaults={"max_time_step": "0.001"})

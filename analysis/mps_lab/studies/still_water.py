@@ -4,6 +4,8 @@
     /usr/bin/python3 analysis/still_water.py --methods isph --set methods.isph.kernel='"wendland_c2"'
     /usr/bin/python3 analysis/still_water.py --methods eisph --realisations 6 --end-time 3
     /usr/bin/python3 analysis/still_water.py --defaults --window 0.5 1.5 --end-time 1.5  # the defaults' test
+    /usr/bin/python3 analysis/still_water.py --methods mps --models distance_function \
+        --model-set distance_function.velocity='"free_slip"' --realisations 12
     /usr/bin/python3 analysis/still_water.py --spacing 0.025 0.0125 0.00625 --out runs/still_water_resolution
 
 scenes/hydrostatic.json (l0 = 0.025 m, water 0.275 m deep between the bed's and the lattice's top
@@ -12,8 +14,9 @@ edge) with three sensors on the left wall's surface (x = l0/2) at y = 0.0625, 0.
 particle centres + l0/2, taken from the run's first frame), and a dry sensor at 0.5 m: the
 sensors of tests/test_pressure_sensors.cpp. Each method runs with its load setting
 (`--load-setting`, the setting its promise is for; `--defaults`: without it) and with each
-boundary model it supports (`--set methods.M.wall_treatments={"MODEL":{}}`, as the test), then
-the `--set`s given here. `--spacing L0 [L0 ...]` runs the same tank at these particle spacings,
+boundary model it supports (`--set methods.M.wall_treatments={"MODEL":{}}`, as the test; `--models`
+keeps only the models named, `--model-set MODEL.KEY=VALUE` puts an option in that model's block),
+then the `--set`s given here. `--spacing L0 [L0 ...]` runs the same tank at these particle spacings,
 the scene's time step and the method's `max_time_step` scaled by L0/0.025, the sensors on the
 wall surface (x = L0/2); h is then taken below each run's lattice top edge. With two spacings or
 more the markdown has a section per spacing and a resolution table, and
@@ -47,7 +50,7 @@ import os
 
 from .. import SOURCE_ROOT, runner
 from ..methods import method_catalogue
-from .common import check_methods, run_summary, write_csv
+from .common import SpecError, check_methods, run_summary, write_csv
 
 SCENE = os.path.join(SOURCE_ROOT, "scenes", "hydrostatic.json")
 SENSOR_HEIGHTS = (0.0625, 0.1375, 0.2125)  # m, on the left wall's surface, x = l0/2
@@ -105,16 +108,39 @@ def spacing_overrides(spacing: float | None, method: str, max_step: float | None
     return overrides
 
 
+def model_block(model: str, model_options: dict | None) -> str:
+    """The scene's wall_treatments object of a case: the model with its options (`--model-set`:
+    {model: {key: value}}), {} for its defaults."""
+    return json.dumps({model: (model_options or {}).get(model, {})}, separators=(",", ":"))
+
+
+def parse_model_options(settings: list[str]) -> dict:
+    """`--model-set MODEL.KEY=VALUE` (VALUE as JSON) -> {MODEL: {KEY: value}}; SpecError on bad input."""
+    options: dict = {}
+    for setting in settings:
+        name, equals, text = setting.partition("=")
+        model, dot, key = name.partition(".")
+        if not equals or not dot or not model or not key:
+            raise SpecError(f"--model-set {setting}: expected MODEL.KEY=VALUE")
+        try:
+            options.setdefault(model, {})[key] = json.loads(text)
+        except json.JSONDecodeError as error:
+            raise SpecError(f"--model-set {setting}: VALUE is not JSON ({error.msg})") from None
+    return options
+
+
 def case_arguments(method: str, model: str, realisation: int, folder: str, end_time: float, load_setting: bool,
-                   overrides: list[str], spacing: float | None = None, max_step: float | None = None) -> list[str]:
+                   overrides: list[str], spacing: float | None = None, max_step: float | None = None,
+                   model_options: dict | None = None) -> list[str]:
     """`mps_lab run` of one case: the tank (at `spacing`, else the scene's; max_step: the method's
-    step bound at the scene's spacing, s), the method's load setting, the model, every step's row."""
+    step bound at the scene's spacing, s), the method's load setting, the model with its
+    `model_options` ({model: {key: value}}), every step's row."""
     arguments = ["run", SCENE, "--method", method, "--out", folder, "--quiet", "--end-time", f"{end_time:g}",
                  *spacing_overrides(spacing, method, max_step),
                  "--set", sensors_override(spacing or scene_spacing_and_step()[0]),
                  "--set", "output.series_every_steps=1",
                  "--set", "output.frame_every_steps=1000000000", "--set", 'output.formats=["csv"]',
-                 "--set", f'methods.{method}.wall_treatments={{"{model}":{{}}}}']
+                 "--set", f"methods.{method}.wall_treatments={model_block(model, model_options)}"]
     if load_setting:
         arguments.append("--load-setting")
     if realisation > 0:
@@ -125,19 +151,23 @@ def case_arguments(method: str, model: str, realisation: int, folder: str, end_t
 
 
 def requests(out: str, catalogue: dict, methods: list[str], realisations: int, end_time: float,
-             load_setting: bool, overrides: list[str], spacings: list[float] | None = None):
-    """One CaseRequest per spacing x method x boundary model x realisation (spacings None: the scene's)."""
+             load_setting: bool, overrides: list[str], spacings: list[float] | None = None,
+             models: list[str] | None = None, model_options: dict | None = None):
+    """One CaseRequest per spacing x method x boundary model x realisation (spacings None: the
+    scene's; models None: every model the method supports, else those of them named)."""
     scene_spacing = scene_spacing_and_step()[0]
     bounds = {method: step_bound(catalogue[method], method) for method in methods}
     for spacing in spacings or [None]:
         suffix = f"__l0_{spacing:g}" if spacing is not None else ""
         for method in methods:
             for model in catalogue[method].boundary_models:
+                if models is not None and model not in models:
+                    continue
                 for realisation in range(realisations):
                     name = f"{method}__{model}__r{realisation}{suffix}"
                     folder = os.path.join(out, "cases", name)
                     arguments = case_arguments(method, model, realisation, folder, end_time, load_setting,
-                                               overrides, spacing, bounds[method])
+                                               overrides, spacing, bounds[method], model_options)
                     yield runner.CaseRequest(name, arguments, folder, {
                         "method": method, "boundary_model": model, "realisation": realisation,
                         "particle_spacing": spacing if spacing is not None else scene_spacing})
@@ -334,17 +364,30 @@ def table(rows: list[dict], promises: dict, window: tuple[float, float], load_se
     return "\n".join(lines) + "\n"
 
 
+def check_models(catalogue: dict, methods: list[str], models: list[str] | None, model_options: dict | None) -> None:
+    """Every model `--models` or `--model-set` names is a boundary model of one of the methods run."""
+    supported = sorted({model for method in methods for model in catalogue[method].boundary_models})
+    for where, names in (("--models", models or []), ("--model-set", sorted(model_options or {}))):
+        for model in names:
+            if model not in supported:
+                raise SpecError(f"{where}.{model}: not a boundary model of {', '.join(methods)} "
+                                f"(they support: {', '.join(supported)})")
+
+
 def still_water(out: str, binary: str, methods: list[str] | None, realisations: int, end_time: float,
                 window: tuple[float, float], load_setting: bool, overrides: list[str], parallel: int,
-                timeout: float = DEFAULT_TIMEOUT, spacings: list[float] | None = None) -> tuple[str, list[dict]]:
+                timeout: float = DEFAULT_TIMEOUT, spacings: list[float] | None = None,
+                models: list[str] | None = None, model_options: dict | None = None) -> tuple[str, list[dict]]:
     """Run every case, write still_water.csv and still_water.md; returns the markdown and the rows."""
     catalogue = method_catalogue(binary)
     wanted = methods or sorted(catalogue)
     check_methods(wanted, sorted(catalogue), "--methods")
+    check_models(catalogue, wanted, models, model_options)
     os.makedirs(out, exist_ok=True)
     rows = []
     for request, result in runner.run_cases(binary, requests(out, catalogue, wanted, realisations, end_time,
-                                                             load_setting, overrides, spacings),
+                                                             load_setting, overrides, spacings, models,
+                                                             model_options),
                                             parallel=parallel, timeout=timeout,
                                             threads=runner.threads_per_case(parallel)):
         row = row_of(request, result, window)
