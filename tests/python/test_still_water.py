@@ -84,6 +84,25 @@ class StillWaterTest(unittest.TestCase):
             self.assertAlmostEqual(got[1], error, places=12, msg=values)
             self.assertEqual(got[2], verdict, values)
 
+    def test_one_run_chance_of_the_target(self):
+        # A normal reading: mean 1, sd 1 % -> Phi(1) - Phi(-1) = 0.682689; mean 0.99, sd 1 % ->
+        # Phi(2) - Phi(0) = 0.477250; a deterministic reading is in or out.
+        self.assertAlmostEqual(still_water.one_run_within(1.0, 0.01), 0.682689, places=6)
+        self.assertAlmostEqual(still_water.one_run_within(0.99, 0.01), 0.477250, places=6)
+        self.assertEqual(still_water.one_run_within(1.004, 0.0), 1.0)
+        self.assertEqual(still_water.one_run_within(0.989, 0.0), 0.0)
+        # Two realisations 0.99 and 1.01 per sensor: mean 1, sd 0.014142; each sensor 0.521,
+        # the three together 0.521^3 = 0.1410 (as noise alone: the mean is exact).
+        rows = [dict({"method": "mps", "boundary_model": "walls", "realisation": k, "status": "completed"},
+                     **{column: value for column in still_water.RATIOS}) for k, value in enumerate((0.99, 1.01))]
+        entries = still_water.expectations(rows)
+        self.assertAlmostEqual(entries[0]["sd_ratio_h0075"], 0.0141421, places=6)
+        self.assertAlmostEqual(entries[0]["one_run_ratio_h0075"], 0.520500, places=5)
+        self.assertAlmostEqual(entries[0]["noise_only_ratio_h0075"], entries[0]["one_run_ratio_h0075"], places=12)
+        self.assertAlmostEqual(still_water.all_within(entries, "one_run"), 0.520500 ** 3, places=5)
+        self.assertIn("- mps: 0.14 (noise alone: 0.14); the single runs' standard deviations 0.0141–0.0141",
+                      still_water.expectation_table(entries))
+
     def test_expectations_group_completed_realisations(self):
         # isph/walls: two completed realisations and a failed one (left out); isph/lone: one
         # realisation, no expectation.

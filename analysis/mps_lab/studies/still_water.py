@@ -40,7 +40,10 @@ With two or more realisations, <out>/still_water_expected.csv, its figure
 each sensor's expected reading over the realisations, mean ± standard error, and its verdict on
 the 1 % target (within or outside by more than two standard errors, else undecided). A method whose
 water never comes to rest reads differently in each realisation, and one run's miss may be its
-noise; a deterministic one reads the same in all (standard error 0) and its misses are its own."""
+noise; a deterministic one reads the same in all (standard error 0) and its misses are its own.
+The CSV also has each sensor's single-run standard deviation and the chance that one run reads it
+within 1 %, as measured and about an exact expectation (what the noise alone allows); the markdown
+gives per method the chance that one run reads every sensor within 1 %."""
 from __future__ import annotations
 
 import csv
@@ -261,9 +264,23 @@ def expected_reading(values: list[float]) -> tuple[float, float, str]:
     return mean, error, verdict
 
 
+def one_run_within(mean: float, spread: float) -> float:
+    """The probability that one run reads within 1 % of rho g h, its reading drawn from a normal
+    distribution with the realisations' mean and sample standard deviation `spread`:
+    Phi((1 + 1 % - mean) / spread) - Phi((1 - 1 % - mean) / spread); a deterministic reading
+    (spread 0) is 1 or 0. With mean 1 it is what the noise alone leaves of the target."""
+    if spread == 0.0:
+        return 1.0 if abs(mean - 1.0) < TARGET else 0.0
+    def cumulative(z: float) -> float:
+        return 0.5 * (1.0 + math.erf(z / math.sqrt(2.0)))
+    return cumulative((1.0 + TARGET - mean) / spread) - cumulative((1.0 - TARGET - mean) / spread)
+
+
 def expectations(rows: list[dict]) -> list[dict]:
     """Per method and model with two or more completed realisations: each sensor's expected reading
-    (expected_reading) as mean_<ratio>, se_<ratio> and verdict_<ratio>."""
+    (expected_reading) as mean_<ratio>, se_<ratio> and verdict_<ratio>; the single runs' standard
+    deviation sd_<ratio>, and the probability that one run reads within 1 % (one_run_within) as
+    one_run_<ratio>, and with the same spread about an exact expectation as noise_only_<ratio>."""
     grouped: dict[tuple[str, str, float], list[dict]] = {}
     for row in rows:
         if row["status"] == "completed":
@@ -276,13 +293,23 @@ def expectations(rows: list[dict]) -> list[dict]:
         entry = {"method": method, "boundary_model": model, "realisations": len(mine), "particle_spacing": spacing}
         for column in RATIOS:
             mean, error, verdict = expected_reading([row[column] for row in mine])
-            entry.update({f"mean_{column}": mean, f"se_{column}": error, f"verdict_{column}": verdict})
+            spread = error * math.sqrt(len(mine))
+            entry.update({f"mean_{column}": mean, f"se_{column}": error, f"verdict_{column}": verdict,
+                          f"sd_{column}": spread, f"one_run_{column}": one_run_within(mean, spread),
+                          f"noise_only_{column}": one_run_within(1.0, spread)})
         result.append(entry)
     return result
 
 
 EXPECTED_COLUMNS = ["method", "boundary_model", "realisations", "particle_spacing",
-                    *(f"{kind}_{column}" for column in RATIOS for kind in ("mean", "se", "verdict"))]
+                    *(f"{kind}_{column}" for column in RATIOS
+                      for kind in ("mean", "se", "verdict", "sd", "one_run", "noise_only"))]
+
+
+def all_within(entries: list[dict], kind: str) -> float:
+    """The probability that one run of each entry reads every sensor within 1 %: the product of the
+    entries' `kind` probabilities (one_run or noise_only), the sensors taken as independent."""
+    return math.prod(entry[f"{kind}_{column}"] for entry in entries for column in RATIOS)
 
 
 def expectation_table(entries: list[dict]) -> str:
@@ -300,6 +327,14 @@ def expectation_table(entries: list[dict]) -> str:
         verdicts = [entry[f"verdict_{column}"] for entry in mine for column in RATIOS]
         counts = ", ".join(f"{verdicts.count(kind)} {kind}" for kind in ("within", "outside", "undecided"))
         lines.append(f"| **{method}** | **all** | | **{counts}** | | |")
+    lines += ["", "One run's chance of every sensor within 1 % (a normal draw per sensor with the realisations' "
+              "mean and standard deviation; noise alone: the same spread about an exact reading):", ""]
+    for method in sorted({entry["method"] for entry in entries}):
+        mine = [entry for entry in entries if entry["method"] == method]
+        lines.append(f"- {method}: {all_within(mine, 'one_run'):.2f} (noise alone: "
+                     f"{all_within(mine, 'noise_only'):.2f}); the single runs' standard deviations "
+                     f"{min(entry['sd_' + column] for entry in mine for column in RATIOS):.4f}–"
+                     f"{max(entry['sd_' + column] for entry in mine for column in RATIOS):.4f}")
     return "\n".join(lines) + "\n"
 
 
