@@ -55,11 +55,14 @@ struct Assembled {
   std::vector<double> surface;
 };
 
+// list_radius: the neighbour list's radius when wider than the operator's (a method's list has
+// the largest of its radii), 0 for radius.re.
 void assemble(Block& b, const OperatorRadius& radius, double offset, Assembled& out,
-              const WallSampleList& samples = WallSampleList{}) {
+              const WallSampleList& samples = WallSampleList{}, double list_radius = 0.0) {
   PressureSolveSettings settings;  // rho 1000, g (0, -9.81), beta 0.97, the spec's source
   settings.surface_offset = offset;
-  const NeighbourList list = find_neighbours(b.particles.position, b.particles.type, radius.re);
+  const NeighbourList list =
+      find_neighbours(b.particles.position, b.particles.type, list_radius > 0.0 ? list_radius : radius.re);
   out.solver.assemble(b.particles, list, samples, b.number_density, std::vector<char>(b.particles.size(), 1), radius,
                       radius.n0, kDt, settings, out.surface);
 }
@@ -82,7 +85,8 @@ TEST_CASE("mps water surface: a surface particle with water below it holds rho |
   for (int i = -2; i <= 2; ++i) CHECK(b.particles.pressure[Block::at(i, -2)] == 0.0);
   // A side particle below the middle has more water above than below: no head.
   CHECK(b.particles.pressure[Block::at(-2, -1)] == 0.0);
-  // A wall particle on the surface stays at the spec's P = 0, though fluid lies below it.
+  // A wall particle on the surface a spacing above the top row is above the water (delta - l0 < 0):
+  // it stays at the spec's P = 0, though fluid lies below it.
   for (std::size_t w = b.wall; w < b.wall + 3; ++w) {
     CHECK(a.surface[w] == 1.0);
     CHECK(b.particles.pressure[w] == 0.0);
@@ -184,4 +188,67 @@ TEST_CASE("mps water surface: a wall sample whose source is on the surface carri
   const double offset = 1000.0 * -9.81 * (sample.position.y() - b.particles.position[source].y());  // Pa
   CHECK(a.solver.rhs()[7] == Approx(without.solver.rhs()[7] + a_w * (kHead + offset)).epsilon(1e-12));
   CHECK(a.solver.matrix().coeff(7, 7) == Approx(without.solver.matrix().coeff(7, 7) + a_w).epsilon(1e-12));
+}
+
+TEST_CASE("mps water line: a wall particle on the surface holds the head of the water beside it", "[mps][surface]") {
+  // Wall particles in the column left of the block (column -3), each a surface particle: the head
+  // rho |g| max(0, delta - Delta), Delta its height above its highest fluid neighbour within re
+  // (here the top row's corner particle (-2, 2), at most sqrt(2) l0 away).
+  const OperatorRadius radius = make_operator_radius(kL0, 2.1 * kL0, 0.01 * kL0);
+  Block b = block(radius.n0);
+  const std::size_t first = b.particles.size();
+  const double rows[] = {2.0, 2.25, 2.5, 1.0};  // in l0 from the block's middle row
+  for (double row : rows) {
+    b.particles.add(Vec2(0.3 - 3 * kL0, 0.2 + row * kL0), Vec2::Zero(), ParticleType::Wall);
+    b.number_density.push_back(0.5 * radius.n0);
+  }
+  b.particles.add(Vec2(0.3 - 8 * kL0, 0.2), Vec2::Zero(), ParticleType::Wall);  // no fluid within re
+  b.number_density.push_back(0.5 * radius.n0);
+  Assembled a;
+  assemble(b, radius, 0.5 * kL0, a);
+  const double rho_g = 1000.0 * 9.81;                                                   // Pa/m
+  CHECK(b.particles.pressure[first] == Approx(kHead).epsilon(1e-12));                   // level with the top row
+  CHECK(b.particles.pressure[first + 1] == Approx(rho_g * 0.25 * kL0).epsilon(1e-12));  // l0/4 above it
+  CHECK(b.particles.pressure[first + 2] == Approx(0.0).margin(1e-9));                   // at the water surface
+  CHECK(b.particles.pressure[first + 3] == Approx(rho_g * 1.5 * kL0).epsilon(1e-12));   // a row below the top
+  CHECK(b.particles.pressure[first + 4] == 0.0);                                        // no fluid beside it
+  for (std::size_t w = first; w < first + 5; ++w) CHECK(a.surface[w] == 1.0);
+  // Without the offset every wall surface particle holds the spec's 0.
+  Block spec = b;
+  Assembled s;
+  assemble(spec, radius, 0.0, s);
+  for (std::size_t w = first; w < first + 5; ++w) CHECK(spec.particles.pressure[w] == 0.0);
+  // Only fluid within the Laplacian's radius counts: a fluid particle 2.5 l0 above the wall
+  // level with the top row, in a neighbour list of twice that radius, would make it 2.5 l0 deep.
+  Block wide = b;
+  wide.particles.add(Vec2(0.3 - 3 * kL0, 0.2 + 4.5 * kL0), Vec2::Zero(), ParticleType::Fluid);
+  wide.number_density.push_back(0.1 * radius.n0);
+  Assembled w;
+  assemble(wide, radius, 0.5 * kL0, w, WallSampleList{}, 2.0 * radius.re);
+  CHECK(wide.particles.pressure[first] == Approx(kHead).epsilon(1e-12));
+}
+
+TEST_CASE("mps water line: the dry-wall rule's level tolerance leaves out wall particles at P <= 0 beside i",
+          "[mps][surface]") {
+  // DryWallRule::excludes_particle (core/walls/wall_samples.hpp): a wall particle j at P_j <= 0 is
+  // dry for fluid particle i when (x_j - x_i) . g < level_tolerance |g|.
+  ParticleSet p;
+  p.add(Vec2(0.0, 0.0), Vec2::Zero(), ParticleType::Fluid);
+  const double heights[] = {0.0, -0.4, -0.6, 1.0};  // in l0 relative to i
+  for (double h : heights) p.add(Vec2(kL0, h * kL0), Vec2::Zero(), ParticleType::Wall);
+  p.add(Vec2(-kL0, 0.0), Vec2::Zero(), ParticleType::Wall);
+  p.pressure.back() = 1.0;                                   // wet: never dry
+  p.add(Vec2(0.0, kL0), Vec2::Zero(), ParticleType::Fluid);  // fluid: never dry
+  const Vec2 g(0.0, -9.81);
+  const DryWallRule spec_rule{true, g, 1000.0};              // tolerance 0: only those above i
+  const DryWallRule water_line{true, g, 1000.0, 0.5 * kL0};  // mps with free_surface_offset 0.5
+  const bool above_only[] = {false, false, false, true, false, false};
+  const bool within_half[] = {true, true, false, true, false, false};
+  for (std::size_t j = 1; j < p.size(); ++j) {
+    INFO("neighbour " << j);
+    CHECK(spec_rule.excludes_particle(p, 0, j) == above_only[j - 1]);
+    CHECK(water_line.excludes_particle(p, 0, j) == within_half[j - 1]);
+    CHECK_FALSE(DryWallRule{false, g, 1000.0, 0.5 * kL0}.excludes_particle(p, 0, j));
+    CHECK_FALSE(DryWallRule{true, Vec2::Zero(), 1000.0, 0.5 * kL0}.excludes_particle(p, 0, j));  // no gravity
+  }
 }

@@ -99,17 +99,27 @@ inline bool dry_wall_point(const Vec2& x_i, const Vec2& x_w, double p_w, const V
 // pressure not above 0; a sample's the hydrostatic extension p_s + rho0 g . (x_w - x_s), before any
 // clamp) is in the air and left out of i's gradient, of what the gradient is built from (mps's
 // P_min and GC's M_i, isph's renormalisation) and of the reactions.
+//
+// `level_tolerance` (m, 0 by default) widens the rule for wall particles: one whose pressure is not
+// above 0 is dry also when it lies less than that distance below i. mps sets it to its water
+// surface's offset (free_surface_offset): the surface lies that far above the surface particles'
+// centres, so a wall particle that close below i holding P <= 0 (a solved wall particle at the
+// water line whose P went to 0) is above the water, not the water's zero; left in, it set P_min
+// of the fluid beside it to 0 and lifted it along the wall (docs/methods/mps.md, "The water line
+// on the wall").
 struct DryWallRule {
   bool exclude = false;
-  Vec2 gravity = Vec2::Zero();  // m/s^2
-  double density = 1000.0;      // kg/m^3: of the samples' hydrostatic extension
+  Vec2 gravity = Vec2::Zero();   // m/s^2
+  double density = 1000.0;       // kg/m^3: of the samples' hydrostatic extension
+  double level_tolerance = 0.0;  // m: wall particles only (above)
   bool excludes(const Vec2& x_i, const Vec2& x_w, double p_w) const {
     return exclude && dry_wall_point(x_i, x_w, p_w, gravity);
   }
   // Neighbour j of fluid particle i: only a wall particle can be dry.
   bool excludes_particle(const ParticleSet& particles, std::size_t i, std::size_t j) const {
-    return exclude && particles.type[j] == ParticleType::Wall &&
-           excludes(particles.position[i], particles.position[j], particles.pressure[j]);
+    if (!exclude || particles.type[j] != ParticleType::Wall || particles.pressure[j] > 0.0) return false;
+    // (x_j - x_i) . g < tolerance |g|: above i, or less than the tolerance below it (never without gravity)
+    return (particles.position[j] - particles.position[i]).dot(gravity) < level_tolerance * gravity.norm();
   }
   bool excludes_sample(const ParticleSet& particles, std::size_t i, const WallSample& wall) const {
     return exclude && excludes(particles.position[i], wall.position,

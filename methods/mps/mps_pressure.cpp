@@ -1,5 +1,9 @@
 #include "methods/mps/mps_pressure.hpp"
 
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
 #include "core/base/memory_bytes.hpp"
 
 #include "core/linalg/pressure_system.hpp"
@@ -113,6 +117,41 @@ double PressurePoissonSolver::surface_pressure(const ParticleSet& particles, con
   return water_below ? settings.density * settings.gravity.norm() * settings.surface_offset : 0.0;  // Pa
 }
 
+// Dirichlet value of a wall particle on the free surface (the spec's walls carry pressure, §8)
+// when the water surface lies `surface_offset` (delta) beyond the fluid surface particles'
+// centres: the hydrostatic head below that surface, P_w = rho |g| max(0, delta - Delta), Delta
+// the wall particle's height above its highest fluid neighbour within the Laplacian's radius
+// (negative when the water stands higher beside it). A wall particle level with the top row
+// holds the fluid surface particles' head rho |g| delta, one half a spacing or more above it 0,
+// as the wall in the air above the water; one with no fluid neighbour 0. Held at 0 instead, the
+// wall at the water line pulled the pool's pressure down at the contact line and the still water
+// read 2-4 % low from the first steps (docs/methods/mps.md, "The water line on the wall").
+double PressurePoissonSolver::wall_surface_pressure(const ParticleSet& particles, const NeighbourList& neighbours,
+                                                    const OperatorRadius& radius, const PressureSolveSettings& settings,
+                                                    std::size_t i) {
+  const Vec2 up = -settings.gravity.normalized();
+  double highest_fluid = -std::numeric_limits<double>::infinity();  // m, along `up`
+  for_each_neighbour(neighbours, i, [&](std::uint32_t j) {
+    if (particles.type[j] != ParticleType::Fluid) return;
+    if ((particles.position[j] - particles.position[i]).norm() >= radius.re) return;
+    highest_fluid = std::max(highest_fluid, particles.position[j].dot(up));
+  });
+  if (!std::isfinite(highest_fluid)) return 0.0;
+  const double height_above_water = particles.position[i].dot(up) - highest_fluid;  // Delta, m
+  return settings.density * settings.gravity.norm() * std::max(0.0, settings.surface_offset - height_above_water);
+}
+
+// The Dirichlet value of surface particle i (Pa): the spec's 0 (§3), or with a water surface
+// `surface_offset` beyond the surface particles the head of a fluid or wall particle.
+double PressurePoissonSolver::surface_value(const ParticleSet& particles, const NeighbourList& neighbours,
+                                            const OperatorRadius& radius, const PressureSolveSettings& settings,
+                                            std::size_t i) {
+  if (settings.surface_offset <= 0.0) return 0.0;
+  if (particles.type[i] == ParticleType::Fluid) return surface_pressure(particles, neighbours, radius, settings, i);
+  if (particles.type[i] == ParticleType::Wall) return wall_surface_pressure(particles, neighbours, radius, settings, i);
+  return 0.0;
+}
+
 double PressurePoissonSolver::laplacian_term(const RowInputs& in, double r) {
   if (in.settings.laplacian_scheme == PpeLaplacianScheme::Hl) {
     return higher_order_laplacian_coefficient(r, in.laplacian);  // Khayyer & Gotoh (2010)
@@ -139,9 +178,7 @@ PressureSolveResult PressurePoissonSolver::assemble(ParticleSet& particles, cons
     if (!carries_pressure[i] || particles.type[i] == ParticleType::Ghost) continue;
     if (number_density[i] < settings.free_surface_threshold * n0) {
       free_surface[i] = 1.0;
-      particles.pressure[i] = settings.surface_offset > 0.0 && particles.type[i] == ParticleType::Fluid
-                                  ? surface_pressure(particles, neighbours, laplacian, settings, i)
-                                  : 0.0;
+      particles.pressure[i] = surface_value(particles, neighbours, laplacian, settings, i);
       ++result.surface;
     } else {
       row_of_[i] = static_cast<int>(particle_of_.size());

@@ -47,8 +47,10 @@ struct PressureSolveSettings {
   const std::vector<double>* source_term = nullptr;
   // m: the water surface's distance beyond a free-surface particle's centre. 0: the spec's P = 0
   // on the surface particles (§3); > 0: a fluid surface particle with water below it holds the
-  // hydrostatic head rho |g| surface_offset (surface_pressure below), a Dirichlet value that the
-  // rows beside it carry to their right-hand sides.
+  // hydrostatic head rho |g| surface_offset, and a wall particle on the surface the head of the
+  // same water surface at its height (surface_value below): Dirichlet values that the rows beside
+  // them carry to their right-hand sides. mps also makes the dry-wall rule's level tolerance this
+  // distance (DryWallRule, core/walls/wall_samples.hpp).
   double surface_offset = 0.0;
 };
 
@@ -130,7 +132,16 @@ class PressurePoissonSolver {
   void assemble_row(const RowInputs& in, int row);
   // a_ij of one pair at distance r (1/m^2): the spec's coefficient w_L(r) or the HL term.
   static double laplacian_term(const RowInputs& in, double r);
-  // The Dirichlet value of surface particle i (Pa): 0 unless settings.surface_offset > 0.
+  // The Dirichlet value of surface particle i (Pa): 0 unless settings.surface_offset > 0, then
+  // surface_pressure (a fluid particle) or wall_surface_pressure (a wall particle).
+  static double surface_value(const ParticleSet& particles, const NeighbourList& neighbours,
+                              const OperatorRadius& radius, const PressureSolveSettings& settings, std::size_t i);
+  // A wall surface particle's head: rho |g| max(0, offset - its height above its highest fluid
+  // neighbour).
+  static double wall_surface_pressure(const ParticleSet& particles, const NeighbourList& neighbours,
+                                      const OperatorRadius& radius, const PressureSolveSettings& settings,
+                                      std::size_t i);
+  // A fluid surface particle's head: rho |g| offset where its water lies below it, else 0.
   static double surface_pressure(const ParticleSet& particles, const NeighbourList& neighbours,
                                  const OperatorRadius& radius, const PressureSolveSettings& settings, std::size_t i);
 
