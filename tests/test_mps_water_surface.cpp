@@ -5,6 +5,8 @@
 // lattices of spacing l0; the head's value is computed here: 1000 * 9.81 * 0.5 * 0.025 Pa.
 #include <catch2/catch.hpp>
 
+#include <cmath>
+
 #include "core/base/error.hpp"
 #include "core/run/driver.hpp"
 #include "core/search/for_each_neighbour.hpp"
@@ -124,8 +126,9 @@ TEST_CASE("mps water surface: each row beside the surface carries its known head
   CHECK(a.solver.rhs()[7] == Approx(c * kHead * weights).epsilon(1e-12));
 }
 
-TEST_CASE("mps water surface: the option reaches the step - the top row of still water holds the head",
-          "[mps][surface][cli]") {
+TEST_CASE(
+    "mps water surface: the option reaches the step - the top row of still water and the wall beside it hold the head",
+    "[mps][surface][cli]") {
   // scenes/hydrostatic.json (l0 = 0.025 m), one step: every fluid particle of the lattice's top
   // row is on the free surface with water below it, so it holds rho |g| l0/2 = 122.625 Pa; the
   // spec's default holds 0 there.
@@ -152,6 +155,18 @@ TEST_CASE("mps water surface: the option reaches the step - the top row of still
       CHECK(p[i] == Approx(offset * 1000.0 * 9.81 * kL0).epsilon(1e-9).margin(1e-9));
     }
     CHECK(top_row == 19);
+    // The spec wall particles level with the top row (the pressure layer of each side wall, on the
+    // free surface) hold the head of the same water surface ("The water line on the wall"): the
+    // PPE sees the provisional positions, where the top row has fallen by |g| dt^2 (u* = g dt,
+    // r* = r + dt u*), so rho |g| (delta - |g| dt^2); the spec's default 0.
+    const double dt = read_table(std::filesystem::path(options.output_directory) / "series.csv").column("dt")[1];
+    int wet_walls_at_water_line = 0;
+    for (std::size_t i = 0; i < type.size(); ++i) {
+      if (type[i] != 1.0 || std::abs(y[i] - top) > 0.1 * kL0 || p[i] <= 0.0) continue;
+      ++wet_walls_at_water_line;
+      CHECK(p[i] == Approx(1000.0 * 9.81 * (offset * kL0 - 9.81 * dt * dt)).epsilon(1e-9));
+    }
+    CHECK(wet_walls_at_water_line == (offset > 0.0 ? 2 : 0));
   }
 }
 
