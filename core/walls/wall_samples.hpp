@@ -88,8 +88,10 @@ inline double sample_pressure_offset(const WallSample& sample, const std::vector
 // p_w (Pa; a sample's hydrostatic extension before any clamp) is not above 0, i.e. in the air
 // above the water. The methods' option dry_wall_points "excluded" (isph, eisph, mps) leaves such
 // points out of i's pressure gradient and its reaction. Wall particles and samples alike.
-inline bool dry_wall_point(const Vec2& x_i, const Vec2& x_w, double p_w, const Vec2& gravity) {
-  return p_w <= 0.0 && (x_w - x_i).dot(gravity) < 0.0;
+// `below` (m, 0 by default): the point counts as dry also when it lies less than that below x_i
+// (DryWallRule::level_tolerance below; never without gravity).
+inline bool dry_wall_point(const Vec2& x_i, const Vec2& x_w, double p_w, const Vec2& gravity, double below = 0.0) {
+  return p_w <= 0.0 && (x_w - x_i).dot(gravity) < below * gravity.norm();
 }
 
 // Which wall points enter the pressure gradient of fluid particle i: the methods' parameter
@@ -117,9 +119,9 @@ struct DryWallRule {
   }
   // Neighbour j of fluid particle i: only a wall particle can be dry.
   bool excludes_particle(const ParticleSet& particles, std::size_t i, std::size_t j) const {
-    if (!exclude || particles.type[j] != ParticleType::Wall || particles.pressure[j] > 0.0) return false;
-    // (x_j - x_i) . g < tolerance |g|: above i, or less than the tolerance below it (never without gravity)
-    return (particles.position[j] - particles.position[i]).dot(gravity) < level_tolerance * gravity.norm();
+    return exclude && particles.type[j] == ParticleType::Wall &&
+           dry_wall_point(particles.position[i], particles.position[j], particles.pressure[j], gravity,
+                          level_tolerance);
   }
   bool excludes_sample(const ParticleSet& particles, std::size_t i, const WallSample& wall) const {
     return exclude && excludes(particles.position[i], wall.position,
