@@ -267,3 +267,31 @@ TEST_CASE("mps water line: the dry-wall rule's level tolerance leaves out wall p
     CHECK_FALSE(DryWallRule{true, Vec2::Zero(), 1000.0, 0.5 * kL0}.excludes_particle(p, 0, j));  // no gravity
   }
 }
+
+TEST_CASE("mps water line: the method's dry-wall rule takes the water surface's offset as its level tolerance",
+          "[mps][surface]") {
+  // dry_wall_rule (methods/mps/mps_pressure.hpp), which the method builds its rule with: with the
+  // offset delta a wall particle at P <= 0 0.4 l0 below fluid particle i is dry, with the spec's
+  // surface (delta = 0) only one above i.
+  ParticleSet p;
+  p.add(Vec2(0.0, 0.0), Vec2::Zero(), ParticleType::Fluid);
+  p.add(Vec2(kL0, -0.4 * kL0), Vec2::Zero(), ParticleType::Wall);
+  p.add(Vec2(kL0, kL0), Vec2::Zero(), ParticleType::Wall);
+  PressureSolveSettings settings;
+  settings.gravity = Vec2(0.0, -9.81);
+  settings.density = 998.0;
+  settings.surface_offset = 0.5 * kL0;
+  const DryWallRule water_line = dry_wall_rule(true, settings);
+  CHECK(water_line.exclude);
+  CHECK(water_line.level_tolerance == 0.5 * kL0);
+  CHECK(water_line.density == 998.0);
+  CHECK(water_line.gravity == settings.gravity);
+  CHECK(water_line.excludes_particle(p, 0, 1));
+  CHECK(water_line.excludes_particle(p, 0, 2));
+  CHECK_FALSE(dry_wall_rule(false, settings).excludes_particle(p, 0, 1));
+  settings.surface_offset = 0.0;
+  const DryWallRule spec_surface = dry_wall_rule(true, settings);
+  CHECK(spec_surface.level_tolerance == 0.0);
+  CHECK_FALSE(spec_surface.excludes_particle(p, 0, 1));
+  CHECK(spec_surface.excludes_particle(p, 0, 2));
+}

@@ -247,8 +247,7 @@ class MpsMethod final : public Method {
     settings_.laplacian_scheme = ppe_laplacian_scheme(p.string("ppe_laplacian"));
     mixed_relaxation_ = p.number("mixed_relaxation");
     gradient_correction_ = p.boolean("gradient_correction");
-    dry_ = {p.string("dry_wall_points") == "excluded", scene_.physics.gravity, scene_.physics.density,
-            settings_.surface_offset};
+    dry_ = dry_wall_rule(p.string("dry_wall_points") == "excluded", settings_);
     scheme_names_ = {{"pressure_gradient", p.string("pressure_gradient")},
                      {"gradient_correction", gradient_correction_},
                      {"source_term", p.string("source_term")},

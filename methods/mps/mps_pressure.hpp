@@ -20,6 +20,7 @@
 #include "core/linalg/projection_solver.hpp"
 #include "core/linalg/sparse_matrix.hpp"
 #include "core/search/neighbour_search.hpp"
+#include "core/walls/wall_samples.hpp"
 #include "methods/mps/mps_operators.hpp"
 #include "methods/mps/mps_schemes.hpp"
 
@@ -53,6 +54,14 @@ struct PressureSolveSettings {
   // distance (DryWallRule, core/walls/wall_samples.hpp).
   double surface_offset = 0.0;
 };
+
+// The dry-wall rule of mps (`dry_wall_points` "excluded" when `exclude`; DryWallRule, core/walls/
+// wall_samples.hpp): its level tolerance is the water surface's offset, so a wall particle at P <= 0
+// less than surface_offset below a fluid particle is above the water, not its zero (docs/methods/
+// mps.md, "The water line on the wall"); 0 with the spec's surface.
+inline DryWallRule dry_wall_rule(bool exclude, const PressureSolveSettings& settings) {
+  return {exclude, settings.gravity, settings.density, settings.surface_offset};
+}
 
 struct PressureSolveResult {
   long long iterations = 0;
