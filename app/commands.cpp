@@ -243,6 +243,7 @@ void print_capabilities(const MethodInfo& info) {
 void print_load_setting(const MethodInfo& info) {
   std::string assignments;
   for (const auto& assignment : load_setting_overrides(info)) assignments += " --set " + assignment;
+  for (const auto& assignment : load_setting_defaults(info)) assignments += " --set " + assignment;
   if (assignments.empty()) assignments = " (the defaults)";
   std::printf("    load setting (--load-setting):%s; promise: still water within %g %% of rho g h (%s)\n",
               assignments.c_str(), 100.0 * info.load_setting.still_water_tolerance, info.load_setting.basis.c_str());

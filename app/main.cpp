@@ -25,7 +25,10 @@ CLI::App* add_run_command(CLI::App& app, mps_lab::app::RunCommand& run) {
   run_app->add_option("--method,-m", run.method,
                       "method name (default: the scene's \"method\"); see `mps_lab methods`");
   run_app->add_option("--out,-o", run.out, "output folder (default: the scene's output.directory)");
-  run_app->add_option("--set,-s", run.set, "override a scene key, e.g. --set time.time_step=1e-4 (repeatable)")
+  run_app
+      ->add_option("--set,-s", run.set,
+                   "override a scene key, e.g. --set time.time_step=1e-4; key?=value only where nothing gave the key "
+                   "(repeatable)")
       ->take_last()
       ->multi_option_policy(CLI::MultiOptionPolicy::TakeAll);
   run_app->add_option("--end-time", run.end_time, "simulated end time in s (overrides time.end_time)");

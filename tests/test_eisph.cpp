@@ -288,8 +288,8 @@ TEST_CASE("EISPH load setting: the spec dam break to 2 s with every boundary mod
   const MethodInfo& eisph = *registries().methods.find("eisph");
   for (const WallTreatmentInfo* model : boundary_models(eisph)) {
     INFO("boundary model " << model->name);
-    std::vector<std::string> overrides = load_setting_overrides(eisph);
-    overrides.push_back("methods.eisph.wall_treatments={\"" + model->name + "\":{}}");
+    const std::vector<std::string> overrides =
+        with_load_setting(eisph, {"methods.eisph.wall_treatments={\"" + model->name + "\":{}}"});
     const DambreakOutcome outcome = run_spec_dambreak("eisph", 0.0, overrides, "_load_setting_" + model->name);
     const RunEvaluation& e = outcome.evaluation;
     INFO("front RMS " << e.front_rms << ", shifted " << e.front_rms_shifted << "; height RMS " << e.height_rms

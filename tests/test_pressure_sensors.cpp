@@ -327,13 +327,14 @@ void check_promise(const SensorRun& run, const MethodInfo& method, const std::st
   }
 }
 
-// The method's load setting (MethodInfo::load_setting) with `boundary_model` (empty: its default).
+// The method's load setting (MethodInfo::load_setting) with `boundary_model` (empty: its default),
+// as `mps_lab run --load-setting --set methods.M.wall_treatments={"MODEL":{}}` applies it.
 std::vector<std::string> load_setting_with(const MethodInfo& method, const std::string& boundary_model) {
-  std::vector<std::string> overrides = load_setting_overrides(method);
+  std::vector<std::string> invocation;
   if (!boundary_model.empty()) {
-    overrides.push_back("methods." + method.name + ".wall_treatments={\"" + boundary_model + "\":{}}");
+    invocation.push_back("methods." + method.name + ".wall_treatments={\"" + boundary_model + "\":{}}");
   }
-  return overrides;
+  return with_load_setting(method, invocation);
 }
 
 TEST_CASE("wall pressure: each method's load setting keeps its still-water promise - every boundary model",

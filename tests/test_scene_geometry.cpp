@@ -160,6 +160,43 @@ TEST_CASE("scene validation names the file and the key", "[scene][input]") {
                  "fluid_blocks: got [], expected a non-empty array of blocks (or [] in a scene with a rigid body"));
 }
 
+TEST_CASE("a default assignment key?=value sets the key only where nothing gave it", "[scene][loads]") {
+  // apply_override (core/io/scene.hpp): "?=" takes the value where the document has none, keeps
+  // one the scene or an earlier --set gave, and creates the objects on its way.
+  nlohmann::json document = nlohmann::json::parse(R"({"a": {"b": 1}})");
+  apply_override(document, "a.b?=2", "test");
+  CHECK(document["a"]["b"] == 1);
+  apply_override(document, "a.c?=3", "test");
+  CHECK(document["a"]["c"] == 3);
+  apply_override(document, "x.y.z?={\"k\": true}", "test");
+  CHECK(document["x"]["y"]["z"]["k"] == true);
+  apply_override(document, "a.b=4", "test");  // the plain form still replaces
+  CHECK(document["a"]["b"] == 4);
+  CHECK_THROWS_WITH(apply_override(document, "?=1", "test"), Catch::Contains("expected key=value"));
+  // A method's load-setting defaults (MethodInfo::load_setting) survive a --set that replaces the
+  // whole wall_treatments block to name the boundary model, and yield to one that gives the key.
+  for (const auto* method : registries().methods.all()) {
+    for (const auto& [key, value] : method->load_setting.defaults) {
+      INFO("methods." << method->name << "." << key);
+      const std::string block = "methods." + method->name;
+      std::string path = "/methods/" + method->name + "/" + key;
+      std::replace(path.begin(), path.end(), '.', '/');
+      const nlohmann::json::json_pointer pointer(path);
+      nlohmann::json named = nlohmann::json::parse(read_text(scene_path("hydrostatic.json")));
+      for (const auto& assignment : with_load_setting(*method, {block + ".wall_treatments={\"dummy_layers\":{}}"})) {
+        apply_override(named, assignment, "test");
+      }
+      CHECK(named.at(pointer) == nlohmann::json::parse(value));
+      CHECK(named["methods"][method->name]["wall_treatments"].contains("dummy_layers"));
+      nlohmann::json given = nlohmann::json::parse(read_text(scene_path("hydrostatic.json")));
+      for (const auto& assignment : with_load_setting(*method, {block + "." + key + "=0.123"})) {
+        apply_override(given, assignment, "test");
+      }
+      CHECK(given.at(pointer) == 0.123);
+    }
+  }
+}
+
 TEST_CASE("overrides set nested keys and defaults come from the spec", "[scene]") {
   const Scene scene =
       load("dambreak.json", {"time.end_time=0.5", "methods.mps.relaxation=0.3", "output.directory=runs/x"});

@@ -416,7 +416,9 @@ void apply_override(nlohmann::json& document, const std::string& assignment, con
   } catch (const nlohmann::json::type_error&) {
     throw_input_error("--set", describe_json(assignment), "expected UTF-8 text");
   }
-  const std::string key = assignment.substr(0, equals);
+  const bool only_if_absent = assignment[equals - 1] == '?';  // "key?=value": a default
+  const std::string key = assignment.substr(0, only_if_absent ? equals - 1 : equals);
+  if (key.empty()) throw_input_error("--set", assignment, "expected key=value, e.g. time.end_time=0.5");
   const std::string text = assignment.substr(equals + 1);
   nlohmann::json value;
   try {
@@ -446,7 +448,7 @@ void apply_override(nlohmann::json& document, const std::string& assignment, con
       if (!node->is_object()) throw_input_error(source, key, "'" + name + "' is inside a value that is not an object");
       node = &(*node)[name];
     }
-    if (last) *node = value;
+    if (last && !(only_if_absent && !node->is_null())) *node = value;
   }
 }
 

@@ -189,6 +189,11 @@ Scene load_scene_text(const std::string& text, const std::string& source, const 
                       const MethodRegistry& methods, const WallTreatmentRegistry& walls);
 Scene parse_scene(nlohmann::json document, const std::string& source, const MethodRegistry& methods,
                   const WallTreatmentRegistry& walls);
+// One --set assignment "dotted.key=value" (value JSON, or a bare word as a string; array
+// components by index; missing objects on the way are created). "dotted.key?=value" is a default:
+// it sets the key only where the document has no value there yet (a method's load setting for a
+// wall treatment's parameter, MethodInfo::load_setting, which a --set replacing the whole block
+// must not wipe).
 void apply_override(nlohmann::json& document, const std::string& assignment, const std::string& source);
 
 // The declared keys of the shared blocks, for documentation checks and `mps_lab scene-keys`.

@@ -482,8 +482,7 @@ RunSetup resolve_run(const RunOptions& options, const MethodRegistry& methods, c
   setup.info = &find_method(methods, method_name);
   if (options.load_setting && !setup.resuming) {
     // The scene again, with the method's load setting first: the method is known only now.
-    setup.overrides = load_setting_overrides(*setup.info);
-    setup.overrides.insert(setup.overrides.end(), new_overrides.begin(), new_overrides.end());
+    setup.overrides = with_load_setting(*setup.info, new_overrides);
     setup.scene = load_scene(options.scene_path, setup.overrides, methods, walls);
   }
   return setup;

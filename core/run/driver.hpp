@@ -130,8 +130,8 @@ struct RunOptions {
   std::optional<double> end_time;                   // s, overrides time.end_time
   std::optional<long long> checkpoint_every_steps;  // overrides output.checkpoint_every_steps
   // The method's setting for wall loads (MethodInfo::load_setting) before `overrides`, so that
-  // an override still wins; run.json records its assignments among the overrides (a resumed run
-  // runs the same scene). Ignored when resuming.
+  // an override still wins, and its defaults after them (with_load_setting); run.json records its
+  // assignments among the overrides (a resumed run runs the same scene). Ignored when resuming.
   bool load_setting = false;
   // OpenMP threads of every step; 0: chosen by measurement (core/run/thread_governor.hpp).
   int threads = 0;

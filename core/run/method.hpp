@@ -140,6 +140,12 @@ struct LoadSetting {
   // 0.15, 0.225 m; means over [0.5, 3] s), with every boundary model, at g and at 1.5 g. 0: none.
   double still_water_tolerance = 0.0;
   std::string basis;  // one line: what the promise rests on (what was measured, where documented)
+  // {dotted key inside the method's block, value as JSON}, taken where neither the scene nor a
+  // --set gives the key: settings of the wall treatments the method runs with, e.g.
+  // {"wall_treatments.particle_collision.distance", "0.9"}. Applied after the invocation's
+  // overrides as "key?=value" (apply_override), so that a --set that names the boundary model by
+  // replacing the whole wall_treatments block keeps them, and one that gives the key wins.
+  std::vector<std::pair<std::string, std::string>> defaults;
 };
 
 struct MethodInfo {
@@ -210,6 +216,12 @@ std::string obstacle_loads_gap(const Scene& scene, const MethodInfo& method);
 
 // The method's load setting as --set assignments: "methods.<name>.<parameter>=<value>".
 std::vector<std::string> load_setting_overrides(const MethodInfo& method);
+// Its defaults (LoadSetting::defaults) as assignments "methods.<name>.<key>?=<value>".
+std::vector<std::string> load_setting_defaults(const MethodInfo& method);
+// What a run with the load setting applies, in this order: load_setting_overrides, then
+// `invocation` (the --set of the command line, which win over the setting), then
+// load_setting_defaults (taken only where nothing before gave the key).
+std::vector<std::string> with_load_setting(const MethodInfo& method, const std::vector<std::string>& invocation);
 
 // Every method compiled into this build (generated from methods/*/).
 MethodRegistry builtin_methods();

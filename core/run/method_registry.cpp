@@ -93,6 +93,22 @@ std::vector<std::string> load_setting_overrides(const MethodInfo& method) {
   return overrides;
 }
 
+std::vector<std::string> load_setting_defaults(const MethodInfo& method) {
+  std::vector<std::string> defaults;
+  for (const auto& [key, value] : method.load_setting.defaults) {
+    defaults.push_back("methods." + method.name + "." + key + "?=" + value);
+  }
+  return defaults;
+}
+
+std::vector<std::string> with_load_setting(const MethodInfo& method, const std::vector<std::string>& invocation) {
+  std::vector<std::string> assignments = load_setting_overrides(method);
+  assignments.insert(assignments.end(), invocation.begin(), invocation.end());
+  const std::vector<std::string> defaults = load_setting_defaults(method);
+  assignments.insert(assignments.end(), defaults.begin(), defaults.end());
+  return assignments;
+}
+
 bool reports_obstacle_loads(const Scene& scene, const MethodInfo& method) {
   return !scene.walls.obstacles.empty() && obstacle_loads_gap(scene, method).empty();
 }
