@@ -285,19 +285,7 @@ TEST_CASE("EISPH load setting: the spec dam break to 2 s with every boundary mod
   // shifted 0.062-0.094, 5-8 ghosts. From p = 0 (the setting before 2026-11-28) the distance
   // function diverged at the far-wall impact (step 194, 0.355 s) in each of 6 realisations; from
   // the hydrostatic pressure it completes.
-  const MethodInfo& eisph = *registries().methods.find("eisph");
-  for (const WallTreatmentInfo* model : boundary_models(eisph)) {
-    INFO("boundary model " << model->name);
-    const std::vector<std::string> overrides =
-        with_load_setting(eisph, {"methods.eisph.wall_treatments={\"" + model->name + "\":{}}"});
-    const DambreakOutcome outcome = run_spec_dambreak("eisph", 0.0, overrides, "_load_setting_" + model->name);
-    const RunEvaluation& e = outcome.evaluation;
-    INFO("front RMS " << e.front_rms << ", shifted " << e.front_rms_shifted << "; height RMS " << e.height_rms
-                      << "; ghosts " << outcome.ghosts);
-    CHECK(e.front_rms_shifted < 0.10);
-    CHECK(e.height_rms < 0.08);
-    CHECK(outcome.ghosts <= 17);
-  }
+  check_load_setting_dambreak("eisph");
 }
 
 TEST_CASE("EISPH time step: cfl l0 / (max |u| + |g| dt) within its bounds and the viscous and force limits",

@@ -42,20 +42,6 @@ TEST_CASE("MPS load setting: the spec dam break to 2 s with every boundary model
   // methods.mps.wall_treatments={"MODEL":{}}` applies it (its collision distance 0.9 l0 then still
   // holds). Measured 2026-11-29: every model completes, front RMS 0.124-0.162, shifted 0.049-0.086;
   // with the spec's collision distance 0.5 l0 only the spec walls completed (the others stopped at
-  // 0.34-1.15 s). The bounds are those of the test above for the shape and the residual height
-  // (the unshifted front leads by more than 0.15 with the sample models and the mirror particles,
-  // as eisph's load setting does: its test holds the same bounds).
-  const MethodInfo& mps = *registries().methods.find("mps");
-  for (const WallTreatmentInfo* model : boundary_models(mps)) {
-    INFO("boundary model " << model->name);
-    const std::vector<std::string> overrides =
-        with_load_setting(mps, {"methods.mps.wall_treatments={\"" + model->name + "\":{}}"});
-    const DambreakOutcome outcome = run_spec_dambreak("mps", 0.0, overrides, "_load_setting_" + model->name);
-    const RunEvaluation& e = outcome.evaluation;
-    INFO("front RMS " << e.front_rms << ", shifted " << e.front_rms_shifted << "; height RMS " << e.height_rms
-                      << "; ghosts " << outcome.ghosts);
-    CHECK(e.front_rms_shifted < 0.10);
-    CHECK(e.height_rms < 0.08);
-    CHECK(outcome.ghosts <= 17);  // more than 10 % of the water thrown out would be a different flow
-  }
+  // 0.34-1.15 s). The bounds: check_load_setting_dambreak (tests/dambreak_checks.hpp).
+  check_load_setting_dambreak("mps");
 }
