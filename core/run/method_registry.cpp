@@ -85,20 +85,25 @@ std::string obstacle_loads_gap(const Scene& scene, const MethodInfo& method) {
   return "";
 }
 
+namespace {
+
+// "methods.<name>.<key><op><value>" for each {key, value} of a load setting.
+std::vector<std::string> block_assignments(const MethodInfo& method,
+                                           const std::vector<std::pair<std::string, std::string>>& entries,
+                                           const std::string& op) {
+  std::vector<std::string> assignments;
+  for (const auto& [key, value] : entries) assignments.push_back("methods." + method.name + "." + key + op + value);
+  return assignments;
+}
+
+}  // namespace
+
 std::vector<std::string> load_setting_overrides(const MethodInfo& method) {
-  std::vector<std::string> overrides;
-  for (const auto& [parameter, value] : method.load_setting.parameters) {
-    overrides.push_back("methods." + method.name + "." + parameter + "=" + value);
-  }
-  return overrides;
+  return block_assignments(method, method.load_setting.parameters, "=");
 }
 
 std::vector<std::string> load_setting_defaults(const MethodInfo& method) {
-  std::vector<std::string> defaults;
-  for (const auto& [key, value] : method.load_setting.defaults) {
-    defaults.push_back("methods." + method.name + "." + key + "?=" + value);
-  }
-  return defaults;
+  return block_assignments(method, method.load_setting.defaults, "?=");
 }
 
 std::vector<std::string> with_load_setting(const MethodInfo& method, const std::vector<std::string>& invocation) {
