@@ -87,7 +87,7 @@ inline DambreakOutcome run_spec_dambreak(const std::string& method, double min_w
 
 // The spec's dam break with `method`'s load setting (MethodInfo::load_setting) and each boundary
 // model it supports, the assignments `mps_lab run --load-setting --set
-// methods.M.wall_treatments={"MODEL":{}}` makes (with_load_setting): the checks above, fluid
+// methods.M.wall_treatments={"MODEL":{}}` makes (load_setting_with, support.hpp): the checks above, fluid
 // allowed up to the wall line, and the bounds of the spec test (tests/test_mps_dambreak.cpp: the
 // experiments' scatter) on the shifted front (the unshifted one leads by more than 0.15 with some
 // models) and the residual height; at most 17 ghosts (more than 10 % of the water thrown out would
@@ -96,9 +96,8 @@ inline void check_load_setting_dambreak(const std::string& method_name) {
   const MethodInfo& method = *registries().methods.find(method_name);
   for (const WallTreatmentInfo* model : boundary_models(method)) {
     INFO("boundary model " << model->name);
-    const std::vector<std::string> overrides =
-        with_load_setting(method, {"methods." + method_name + ".wall_treatments={\"" + model->name + "\":{}}"});
-    const DambreakOutcome outcome = run_spec_dambreak(method_name, 0.0, overrides, "_load_setting_" + model->name);
+    const DambreakOutcome outcome =
+        run_spec_dambreak(method_name, 0.0, load_setting_with(method, model->name), "_load_setting_" + model->name);
     const RunEvaluation& e = outcome.evaluation;
     INFO("front RMS " << e.front_rms << ", shifted " << e.front_rms_shifted << "; height RMS " << e.height_rms
                       << "; ghosts " << outcome.ghosts);

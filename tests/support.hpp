@@ -47,6 +47,16 @@ inline std::vector<const WallTreatmentInfo*> boundary_models(const MethodInfo& m
   return models;
 }
 
+// The method's load setting (MethodInfo::load_setting) with `boundary_model` (empty: its default),
+// as `mps_lab run --load-setting --set methods.M.wall_treatments={"MODEL":{}}` applies it.
+inline std::vector<std::string> load_setting_with(const MethodInfo& method, const std::string& boundary_model) {
+  std::vector<std::string> invocation;
+  if (!boundary_model.empty()) {
+    invocation.push_back("methods." + method.name + ".wall_treatments={\"" + boundary_model + "\":{}}");
+  }
+  return with_load_setting(method, invocation);
+}
+
 // The one-line error of scenes/<name> with `overrides`, "" if the scene loads.
 // The scene overrides that make `model` the boundary model of `method` in the scene file `name`:
 // "method=...", the model enabled, the scene's other enabled boundary model of that method off

@@ -327,16 +327,6 @@ void check_promise(const SensorRun& run, const MethodInfo& method, const std::st
   }
 }
 
-// The method's load setting (MethodInfo::load_setting) with `boundary_model` (empty: its default),
-// as `mps_lab run --load-setting --set methods.M.wall_treatments={"MODEL":{}}` applies it.
-std::vector<std::string> load_setting_with(const MethodInfo& method, const std::string& boundary_model) {
-  std::vector<std::string> invocation;
-  if (!boundary_model.empty()) {
-    invocation.push_back("methods." + method.name + ".wall_treatments={\"" + boundary_model + "\":{}}");
-  }
-  return with_load_setting(method, invocation);
-}
-
 TEST_CASE("wall pressure: each method's load setting keeps its still-water promise - every boundary model",
           "[validation][sensor]") {
   // Every method declares a setting for wall loads and a promise (MethodInfo::load_setting); with

@@ -541,8 +541,8 @@ std::vector<ParameterSpec> pressure_scheme_parameters() {
 // at the water line hold the same water's head, "The water line on the wall"); and the spec's
 // collision (6.4) from 0.9 l0 instead of 0.5 l0 (a default of the particle_collision treatment's
 // block, which a --set naming the boundary model keeps: with 0.5 l0 the spec's dam break stopped
-// with every boundary model but the spec walls, and the still water's motion was twice as
-// strong; docs/methods/mps.md, "The collision distance"). Still water: 0.988-1.022 of rho g h
+// with every boundary model but the spec walls, and the still water's kinetic energy at 3 s
+// was five times larger; docs/methods/mps.md, "The collision distance"). Still water: 0.988-1.022 of rho g h
 // over [0.5, 3] s in 24 realisations (gravity x (1 + k 1e-10), 2026-11-29, seventeenth sitting;
 // 0.968-1.017 with the spec's collision distance, 0.934-1.019 before GC and the offset), one run
 // at 1.5 g 0.991-1.016, so 3 % (docs/validation.md, "Each method's load setting", "Expected
