@@ -9,6 +9,7 @@
 
 #include "core/search/for_each_neighbour.hpp"
 #include "core/walls/wall_reactions.hpp"
+#include "core/walls/wall_sample_pressure.hpp"
 
 namespace mps_lab::isph {
 
@@ -135,6 +136,28 @@ PressureGradientForm pressure_gradient_form_from_name(const std::string& name) {
                               "' (expected symmetric, difference, corrected or symmetric_corrected_surface)");
 }
 
+ParameterSpec wall_sample_pressure_parameter() {
+  return string_parameter("wall_sample_pressure", "own",
+                          "what a wall sample extends to the wall point: own (its source particle's pressure) or "
+                          "fitted (the linear MLS fit of the fluid pressure about the source: for loads; boundary "
+                          "models of wall samples, docs/methods/isph.md)")
+      .one_of({"own", "fitted"});
+}
+
+bool fits_wall_sample_pressure(const ParameterValues& parameters) {
+  return parameters.string("wall_sample_pressure") == "fitted";
+}
+
+SamplePressure with_source_pressure(SamplePressure rule, const ParticleSet& particles, const NeighbourList& neighbours,
+                                    const WallSampleList& samples, const SphKernel& kernel, bool fit,
+                                    std::vector<double>& fitted) {
+  if (!fit || !samples.has_samples()) return rule;
+  fit_source_pressures(
+      particles, neighbours, [&](double r) { return kernel.value(r); }, particles.pressure, fitted);
+  rule.source_pressure = &fitted;
+  return rule;
+}
+
 void pressure_acceleration(const ParticleSet& particles, const NeighbourList& neighbours, const WallSampleList& samples,
                            const SamplePressure& sample_rule, const SphKernel& kernel, double mass,
                            const std::vector<double>& density, const std::vector<double>& free_surface,
@@ -165,7 +188,7 @@ void pressure_acceleration(const ParticleSet& particles, const NeighbourList& ne
     // Wall samples: particles of mass m V_w, density rho0, pressure p_s + rho0 g . (x_w - x_s).
     for_each_neighbour(samples, i, [&](const WallSample& wall) {
       if (particles.type[wall.source] == ParticleType::Ghost) return;
-      if (dry.excludes_sample(particles, static_cast<std::size_t>(i), wall)) return;
+      if (sample_rule.excludes_sample(particles, static_cast<std::size_t>(i), wall)) return;
       sum += pressure_sample_pair(particles, sample_rule, kernel, mass, density, symmetric, i, wall);
       if (!symmetric) {
         const Vec2 r_iw = particles.position[i] - wall.position;
@@ -217,11 +240,10 @@ void add_pressure_sample_reactions(const ParticleSet& particles, const WallSampl
                                    PressureGradientForm form, const std::vector<Eigen::Matrix2d>& renormalisation,
                                    std::vector<Vec2>& scratch, WallSampleLoads& loads) {
   // The force on i from sample w: m a_iw = -m L_i pressure_sample_pair(i, w) (pressure_acceleration).
-  const DryWallRule dry = rule.dry_rule();
   add_wall_sample_reactions(
       particles, samples,
       [&](std::size_t i, std::uint32_t, const WallSample& wall) -> Vec2 {
-        if (particles.type[wall.source] == ParticleType::Ghost || dry.excludes_sample(particles, i, wall))
+        if (particles.type[wall.source] == ParticleType::Ghost || rule.excludes_sample(particles, i, wall))
           return Vec2::Zero();
         const bool symmetric = symmetric_gradient(form, free_surface[i]);
         return -mass *

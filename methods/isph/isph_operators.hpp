@@ -30,6 +30,7 @@
 #include <string>
 #include <vector>
 
+#include "core/base/parameters.hpp"
 #include "core/base/particles.hpp"
 #include "core/kernels/sph_kernels.hpp"
 #include "core/search/neighbour_search.hpp"
@@ -202,14 +203,44 @@ inline Vec2 pressure_pair(const ParticleSet& particles, const SphKernel& kernel,
 // (a sample's before the clamp) not above 0 - is left out of i's gradient and its reaction: it
 // stands in the air above the water, where the clamped point would still push i away with i's
 // own pressure (the symmetric form's p_i term).
+//
+// What a sample extends is its source's pressure: particles.pressure, or with `source_pressure` that
+// field instead (parameter wall_sample_pressure "fitted": the linear MLS fit of the fluid pressure
+// about each source, core/walls/wall_sample_pressure.hpp). Its p_w is then the one value that enters
+// the gradient, the dry-wall test and the reactions alike; the pair's p_i stays i's own pressure.
 struct SamplePressure {
   double rest_density = 1000.0;     // rho0, kg/m^3: the density of a sample
   Vec2 gravity = Vec2(0.0, -9.81);  // m/s^2
   bool clamp_negative = true;
   bool exclude_dry = false;
+  const std::vector<double>* source_pressure = nullptr;  // Pa per particle; null: particles.pressure
   // The wall points left out of fluid particles' gradients (core/walls/wall_samples.hpp).
   DryWallRule dry_rule() const { return {exclude_dry, gravity, rest_density}; }
+  // p_w of sample `wall` before any clamp, Pa; `symmetric`: for a pair in the symmetric form.
+  double wall_pressure(const ParticleSet& particles, const WallSample& wall, bool symmetric = true) const {
+    const std::vector<double>& source = source_pressure != nullptr && symmetric ? *source_pressure : particles.pressure;
+    return sample_pressure(wall, source, particles.position, rest_density, gravity);
+  }
+  // Whether sample `wall` is dry for fluid particle i (DryWallRule with this p_w).
+  bool excludes_sample(const ParticleSet& particles, std::size_t i, const WallSample& wall) const {
+    return exclude_dry && dry_wall_point(particles.position[i], wall.position, wall_pressure(particles, wall), gravity);
+  }
 };
+
+// The scene key wall_sample_pressure of isph and eisph: "own" (default: a wall sample extends its
+// source particle's pressure, core/walls/wall_samples.hpp) or "fitted" (the linear MLS fit of the
+// fluid pressure about the source, core/walls/wall_sample_pressure.hpp; for loads). Boundary models
+// of wall particles have no samples: their wall pressure is Adami's mean over the fluid already.
+ParameterSpec wall_sample_pressure_parameter();
+// Whether the method's parameters ask for "fitted".
+bool fits_wall_sample_pressure(const ParameterValues& parameters);
+
+// `rule` for this step's gradient: when `fit` is set and the boundary model has wall samples,
+// `fitted` gets (FIT) of particles.pressure at every fluid particle (with the method's kernel) and
+// the rule's samples extend it; otherwise `rule` as it is (the sources' own pressures).
+SamplePressure with_source_pressure(SamplePressure rule, const ParticleSet& particles, const NeighbourList& neighbours,
+                                    const WallSampleList& samples, const SphKernel& kernel, bool fit,
+                                    std::vector<double>& fitted);
 
 // What wall sample w adds to grad p_i / rho_i before the renormalisation, m/s^2: pressure_pair with
 // mass m V_w, density rho0 and the pressure p_w of `rule`. Shared by pressure_acceleration and the
@@ -219,7 +250,7 @@ inline Vec2 pressure_sample_pair(const ParticleSet& particles, const SamplePress
                                  const WallSample& wall) {
   const double rho_w = rule.rest_density;
   const Vec2 gradient = kernel.gradient(particles.position[i] - wall.position);
-  double p_w = sample_pressure(wall, particles.pressure, particles.position, rho_w, rule.gravity);
+  double p_w = rule.wall_pressure(particles, wall, symmetric);
   if (rule.clamp_negative) p_w = std::max(p_w, 0.0);
   const double m_w = mass * wall.volume;
   const double p_i = particles.pressure[i], rho_i = density[i];
