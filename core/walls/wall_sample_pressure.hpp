@@ -32,9 +32,9 @@
 namespace mps_lab {
 
 // det M / (M00 M11 M22) of (FIT)'s 3 x 3 moment matrix M = sum_j W_j (1, d_j)(1, d_j)^T, d_j =
-// x_j - x_s: 1 for a stencil symmetric about x_s, about 0.5 beside a wall or under a flat surface
-// (measured on the still-water lattice: tests/test_wall_sample_pressure.cpp), 0 when the
-// neighbours lie on one line.
+// x_j - x_s: 1 for a stencil symmetric about x_s, 0.73 beside a wall or under a flat surface and
+// 0.53 in the corner where they meet (the still-water lattice, cubic spline of support 2.4 l0:
+// tests/test_isph_wall_sample_pressure.cpp), 0 when the neighbours lie on one line.
 constexpr double kMinimumFitDeterminant = 0.01;
 
 // (FIT) at fluid particle s, Pa: p~_s from `pressure` (Pa) with weights weight(r) (1/m^2; the
