@@ -101,7 +101,7 @@ TEST_CASE("DFSPH load setting: the spec dam break to 2 s with every boundary mod
   // (docs/validation.md: 0.10 with the best time shift is the experiment's noise floor, 0.08 in
   // H* for the height, at most 10 % of the water thrown out). Measured 2026-12-07: completes
   // with every model, front RMS 0.103 / 0.104 / 0.107 / 0.209 (shifted 0.052 / 0.051 / 0.047 /
-  // 0.039) for akinci_boundary / dummy_layers / distance_function / mirror_particles, 4-5 ghosts.
+  // 0.039) for akinci_boundary / dummy_layers / distance_function / mirror_particles, 4-6 ghosts.
   // Without the quiet pool (the setting before 2026-12-07) the run-up threw 9 particles over the
   // top and the monitor stopped akinci_boundary at 0.72 s and distance_function at 0.67 s.
   check_load_setting_dambreak("dfsph");
