@@ -354,8 +354,9 @@ TEST_CASE("wall pressure: particle shifting keeps each method's still-water prom
   // promises hold with it. Measured 2026-11-29 (docs/walls.md, "Particle shifting"): mps
   // 0.954-1.020, isph 0.982-1.006, eisph 0.979-1.004, dfsph 0.993-1.011, wcsph 0.999-1.009, against
   // 7, 2, 3, 2 and 1 %. dfsph's load setting has shifting with a fixed part since 2026-12-07 (a
-  // default of its block); this test's {} replaces it by the defaults: 0.997-1.012. The measure moves the particles of every method that supports it, so
-  // it is held to each one's promise; no method is named.
+  // default of its block); this test's {} replaces it by the defaults: 0.997-1.012. The measure
+  // moves the particles of every method that supports it, so it is held to each one's promise; no
+  // method is named.
   const WallTreatmentInfo& shifting = *registries().walls.find("particle_shifting");
   for (const MethodInfo* method : registries().methods.all()) {
     if (!wall_treatment_supports(shifting, *method)) continue;

@@ -32,7 +32,9 @@ still-water loads on the submerged box and the plate (tests/test_obstacle_loads.
 tests/mutations/particle_shifting.json the particle shifting (core/walls/particle_shifting.cpp),
 quick suite the [shifting] tests, and tests/mutations/wall_sample_pressure.json the wall samples' fitted
 pressure of isph and eisph (core/walls/wall_sample_pressure.hpp, methods/isph/isph_operators.*), quick
-suite tests/test_isph_wall_sample_pressure.cpp.
+suite tests/test_isph_wall_sample_pressure.cpp, and tests/mutations/load_settings.json the methods'
+load settings (MethodInfo::load_setting: each entry the issue-14 measurements rest on), quick suite
+the load settings' still-water promises and their spec dam breaks.
 
 Exit status: 0 when every mutation run was killed, 1 when one survived, 2 on bad input.
 """
@@ -54,7 +56,8 @@ REPORT = ROOT / "docs" / "data" / "mutation_report.csv"
 # The quick suite of each list other than the spec's: a Catch2 test spec for the test binary.
 QUICK_SUITES = {"pressure_schemes.json": "[schemes],[loads],[surface]", "pressure_sensors.json": "[sensor]",
                 "distance_function_corners.json": "distance function corners*,obstacle loads: still water*",
-                "particle_shifting.json": "[shifting]", "wall_sample_pressure.json": "wall sample pressure*"}
+                "particle_shifting.json": "[shifting]", "wall_sample_pressure.json": "wall sample pressure*",
+                "load_settings.json": "wall pressure: each method's load setting*,*load setting: the spec dam break*"}
 REQUIRED_KEYS = ("id", "spec", "item", "file", "old", "new")
 CTEST_LABEL = "spec"
 TEST_TIMEOUT_SECONDS = 120  # per test; a mutation that makes a test hang is killed by the timeout
