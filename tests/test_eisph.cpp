@@ -288,6 +288,45 @@ TEST_CASE("EISPH load setting: the spec dam break to 2 s with every boundary mod
   check_load_setting_dambreak("eisph");
 }
 
+TEST_CASE("EISPH sweeps_per_step: at a 0.5 ms step one sweep loses the mirror particles' impact, four keep it",
+          "[eisph][validation]") {
+  // The spec's dam break to 0.5 s with the load setting, mirror_particles and the step bounded at
+  // 0.5 ms (force_number 0.009: 0.009 sqrt(0.03 / 9.81) = 4.98e-4 s). Measured 2026-12-08: one
+  // sweep per step diverges at the far-wall impact (energy growth, t = 0.3315 s, step 663), as
+  // docs/methods/eisph.md's table of steps records; 2, 4, 6 and 16 sweeps complete the impact
+  // (and the 2 s run). The test fails if the option is ignored (then 4 behaves as 1) or if the
+  // repeated pass is not the full (WALL)-(SWEEP) pair. series.csv reports the sweeps per step.
+  const auto run_with = [](int sweeps) {
+    const MethodInfo& method = *registries().methods.find("eisph");
+    std::vector<std::string> overrides = load_setting_with(method, "mirror_particles");
+    overrides.insert(overrides.end(),
+                     {"time.end_time=0.5", "methods.eisph.force_number=0.009",
+                      "methods.eisph.sweeps_per_step=" + std::to_string(sweeps), "output.frame_every_steps=100000"});
+    const auto out = fresh_directory("eisph_sweeps_" + std::to_string(sweeps));
+    RunOptions options;
+    options.scene_path = scene_path("dambreak.json");
+    options.method = "eisph";
+    options.overrides = overrides;
+    options.output_directory = out.string();
+    RunResult result = run_simulation(options, registries().methods, registries().walls);
+    return std::make_pair(result, out);
+  };
+  const auto [one, one_out] = run_with(1);
+  INFO("one sweep: " << one.status << " at t = " << one.simulated_time << " s");
+  CHECK(one.status == "diverged");
+  CHECK(one.simulated_time < 0.4);  // at the impact on the far wall (0.33 s)
+  const auto [four, four_out] = run_with(4);
+  INFO("four sweeps: " << four.status << " at t = " << four.simulated_time << " s");
+  REQUIRE(four.status == "completed");
+  CHECK(four.simulated_time == Approx(0.5).epsilon(1e-12));
+  CHECK(four.summary["method_summary"]["relaxation_sweeps_per_step"].get<int>() == 4);
+  const Table series = read_table(four_out / "series.csv");
+  const auto time = series.column("time"), iterations = series.column("solver_iterations");
+  for (std::size_t k = 0; k < time.size(); ++k) {
+    if (time[k] > 0.0) CHECK(iterations[k] == 4.0);  // the row at t = 0 precedes the first step
+  }
+}
+
 TEST_CASE("EISPH time step: cfl l0 / (max |u| + |g| dt) within its bounds and the viscous and force limits",
           "[eisph][unit]") {
   const double l0 = 0.025, h = 1.2 * l0, g = 9.81;

@@ -86,6 +86,7 @@ class EisphMethod final : public Method {
     settings_ = {rest_density_, mass_, eta * eta, scene_.physics.gravity, p.number("relaxation_factor")};
     source_term_ = p.string("source_term");
     density_relaxation_ = p.number("density_relaxation");
+    sweeps_per_step_ = static_cast<int>(p.integer("sweeps_per_step"));
     free_surface_density_ratio_ = p.number("free_surface_density_ratio");
     surface_offset_ = p.number("free_surface_offset") * l0;  // m
     gradient_form_ = isph::pressure_gradient_form_from_name(p.string("pressure_gradient"));
@@ -147,7 +148,7 @@ class EisphMethod final : public Method {
             {"particle_mass", mass_},
             {"wall_treatments", walls_.names()},
             {"boundary_model", walls_.boundary_name()},
-            {"relaxation_sweeps_per_step", 1},
+            {"relaxation_sweeps_per_step", sweeps_per_step_},
             {"largest_step_of_limits", limits_.largest()},
             {"time_step", clock_.summary(time_step_settings_)},
             {"ghosts_created", ghosts_}};
@@ -271,9 +272,10 @@ class EisphMethod final : public Method {
   // Notes step 7: the wall pressures from the fluid's p^n (Adami eq. 27), then one sweep for the
   // fluid's p^{n+1}; negative pressures clamped when asked; the walls again from p^{n+1}, which
   // the pressure gradient reads (Adami et al. 2012 evaluate eq. 27 with the current pressures).
+  // With sweeps_per_step k > 1 the pair (WALL), (SWEEP) is repeated k times at r*: k block Jacobi
+  // iterations of isph's system, warm-started from p^n; the report is the last sweep's.
   SweepResult relax_pressure(ParticleSet& particles) {
     const auto& free_surface = particles.field("free_surface");
-    const Vec2 gravity = scene_.physics.gravity;
     {
       const auto timed = measure(timers_, assembly_phase_);
       // (SURF) of the surface particles with a surface offset (methods/isph/isph_surface.hpp)
@@ -286,18 +288,28 @@ class EisphMethod final : public Method {
         if (held) particles.pressure[i] = 0.0;  // p = 0 on the free surface's held particles (and ghosts)
       }
       // Wall particles that see fluid (as the wall rows of isph_pressure.cpp; none with wall samples)
-      adami_wall_pressure(particles, neighbours_, kernel_, rest_density_field_, gravity, particles.pressure);
-      previous_pressure_ = particles.pressure;  // p^n
+      adami_wall_pressure(particles, neighbours_, kernel_, rest_density_field_, scene_.physics.gravity,
+                          particles.pressure);
     }
     const auto timed = measure(timers_, solve_phase_);
+    SweepResult sweep;
+    for (int k = 0; k < sweeps_per_step_; ++k) sweep = sweep_once(particles);
+    return sweep;
+  }
+
+  // One (SWEEP) from the current pressures (walls from (WALL)), the clamp, and (WALL) again.
+  SweepResult sweep_once(ParticleSet& particles) {
+    previous_pressure_ = particles.pressure;  // p^n (or the previous sweep's)
     const SweepResult sweep =
-        relaxation_sweep(particles, neighbours_, samples_, kernel_, rest_density_field_, free_surface, source_,
-                         settings_, previous_pressure_, particles.pressure, &surface_factor_);
+        relaxation_sweep(particles, neighbours_, samples_, kernel_, rest_density_field_,
+                         particles.field("free_surface"), source_, settings_, previous_pressure_, particles.pressure,
+                         &surface_factor_);
     if (clamp_negative_pressure_) {
       for_each_fluid_particle(particles,
                               [&](std::ptrdiff_t i) { particles.pressure[i] = std::max(particles.pressure[i], 0.0); });
     }
-    adami_wall_pressure(particles, neighbours_, kernel_, rest_density_field_, gravity, particles.pressure);
+    adami_wall_pressure(particles, neighbours_, kernel_, rest_density_field_, scene_.physics.gravity,
+                        particles.pressure);
     if (clamp_negative_pressure_) {
       for (std::size_t i = 0; i < particles.size(); ++i) {
         if (particles.type[i] == ParticleType::Wall) particles.pressure[i] = std::max(particles.pressure[i], 0.0);
@@ -362,7 +374,7 @@ class EisphMethod final : public Method {
       ++interior;
     }
     StepReport result;
-    result.solver_iterations = 1;  // one sweep, always "converged": there is no stopping rule
+    result.solver_iterations = sweeps_per_step_;  // the sweeps, always "converged": no stopping rule
     result.solver_residual = sweep.relative_change;
     result.solver_converged = true;
     result.extra = {interior > 0 ? deviation / static_cast<double>(interior) : 0.0, largest,
@@ -380,6 +392,7 @@ class EisphMethod final : public Method {
   RelaxationSettings settings_;
   std::string source_term_;
   double density_relaxation_ = 0.0;
+  int sweeps_per_step_ = 1;  // (SWEEP) passes per step (1: Hosseini et al. 2007)
   double free_surface_density_ratio_ = 0.95;
   double surface_offset_ = 0.0;         // delta, m (isph_surface.hpp); 0: p = 0 at the surface particles
   std::vector<double> surface_factor_;  // factor_i of (SURF) per particle, 0 where p = 0 is held
@@ -425,6 +438,11 @@ static std::vector<mps_lab::ParameterSpec> eisph_parameters() {
                        "omega of the one sweep per step: p = (1 - omega) p^n + omega p_Jacobi (1: Jacobi)")
           .above(0.0)
           .at_most(1.0),
+      integer_parameter("sweeps_per_step", 1,
+                        "relaxation sweeps of the PPE per step, each after (WALL) from the last: 1 is the explicit "
+                        "scheme (Hosseini et al. 2007), more approach isph's implicit pressure")
+          .at_least(1)
+          .at_most(1000),
       string_parameter("source_term", "mixed", "PPE source: velocity_divergence, density_invariance or mixed")
           .one_of({"velocity_divergence", "density_invariance", "mixed"}),
       number_parameter("density_relaxation", 0.01, "",
