@@ -300,10 +300,9 @@ class EisphMethod final : public Method {
   // One (SWEEP) from the current pressures (walls from (WALL)), the clamp, and (WALL) again.
   SweepResult sweep_once(ParticleSet& particles) {
     previous_pressure_ = particles.pressure;  // p^n (or the previous sweep's)
-    const SweepResult sweep =
-        relaxation_sweep(particles, neighbours_, samples_, kernel_, rest_density_field_,
-                         particles.field("free_surface"), source_, settings_, previous_pressure_, particles.pressure,
-                         &surface_factor_);
+    const SweepResult sweep = relaxation_sweep(particles, neighbours_, samples_, kernel_, rest_density_field_,
+                                               particles.field("free_surface"), source_, settings_, previous_pressure_,
+                                               particles.pressure, &surface_factor_);
     if (clamp_negative_pressure_) {
       for_each_fluid_particle(particles,
                               [&](std::ptrdiff_t i) { particles.pressure[i] = std::max(particles.pressure[i], 0.0); });
