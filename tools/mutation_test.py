@@ -34,7 +34,8 @@ quick suite the [shifting] tests, and tests/mutations/wall_sample_pressure.json 
 pressure of isph and eisph (core/walls/wall_sample_pressure.hpp, methods/isph/isph_operators.*), quick
 suite tests/test_isph_wall_sample_pressure.cpp, and tests/mutations/load_settings.json the methods'
 load settings (MethodInfo::load_setting: each entry the issue-14 measurements rest on), quick suite
-the load settings' still-water promises and their spec dam breaks.
+the load settings' still-water promises and their spec dam breaks, and tests/mutations/eisph_sweeps.json
+eisph's `sweeps_per_step` (methods/eisph/eisph_method.cpp), quick suite its test in tests/test_eisph.cpp.
 
 Exit status: 0 when every mutation run was killed, 1 when one survived, 2 on bad input.
 """
@@ -57,7 +58,8 @@ REPORT = ROOT / "docs" / "data" / "mutation_report.csv"
 QUICK_SUITES = {"pressure_schemes.json": "[schemes],[loads],[surface]", "pressure_sensors.json": "[sensor]",
                 "distance_function_corners.json": "distance function corners*,obstacle loads: still water*",
                 "particle_shifting.json": "[shifting]", "wall_sample_pressure.json": "wall sample pressure*",
-                "load_settings.json": "wall pressure: each method's load setting*,*load setting: the spec dam break*"}
+                "load_settings.json": "wall pressure: each method's load setting*,*load setting: the spec dam break*",
+                "eisph_sweeps.json": "EISPH sweeps_per_step*"}
 REQUIRED_KEYS = ("id", "spec", "item", "file", "old", "new")
 CTEST_LABEL = "spec"
 TEST_TIMEOUT_SECONDS = 120  # per test; a mutation that makes a test hang is killed by the timeout
